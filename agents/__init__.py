@@ -1,0 +1,1 @@
+"""Task agents, the manager and the baseline particle system (pure, numpy only)."""

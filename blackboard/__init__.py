@@ -1,0 +1,1 @@
+"""Polygonisation and the voxel blackboard (pure, numpy only)."""

@@ -1,0 +1,158 @@
+"""Groups of primitives of one kind evaluated together on (point, primitive) pairs.
+
+A group belongs to an n-ary operator whose reduction it performs: ``sum`` (blend),
+``max`` (union of non-negative primitives) or ``ricci`` ((sum f^n)^(1/n)). Candidate
+pairs come from a uniform grid whose cells list the primitives whose support can reach
+them (a cell-to-skeleton-box distance test against each radius), so a point meets only
+the few primitives near it: one vectorised kernel call per group instead of one
+Python-level call per primitive.
+"""
+import numpy as np
+
+from . import primitives as PR
+
+GRID_MIN_MEMBERS = 5         # smaller groups test every member on every point
+GRID_MAX_CELLS = 48 ** 3
+
+
+class Group:
+    def __init__(self, prims, reduce="sum", n=1.0, use_grid=True):
+        self.prm = PR.pack(prims)
+        self.source = prims[0] if len(prims) == 1 else None   # lets plans merge groups
+        self.kind = self.prm["kind"]
+        self.m = len(prims)
+        self.reduce = reduce
+        self.n = float(n)
+        plo, phi = PR.support_bounds(self.prm)
+        self.member_lo, self.member_hi = plo, phi
+        self.lo, self.hi = plo.min(0), phi.max(0)
+        S = self.prm["S"]
+        if reduce == "sum":
+            self.vlo, self.vhi = float(np.minimum(S, 0).sum()), float(np.maximum(S, 0).sum())
+        elif reduce == "max":
+            self.vlo, self.vhi = 0.0, float(S.max())
+        else:
+            self.vlo, self.vhi = 0.0, float((np.maximum(S, 0) ** self.n).sum() ** (1 / self.n))
+        self.grid = _build_grid(self.prm, plo, phi) if use_grid and self.m >= GRID_MIN_MEMBERS else None
+
+    def __repr__(self):
+        return f"Group({self.kind} x{self.m}, {self.reduce})"
+
+    def pairs(self, P):
+        """(point index, member index) candidate pairs, sorted by point."""
+        n = len(P)
+        if self.grid is None:
+            if self.m == 1:
+                return np.arange(n), None
+            pp = np.repeat(np.arange(n), self.m)
+            pi = np.tile(np.arange(self.m), n)
+            return pp, pi
+        g = self.grid
+        cell = np.floor((P - g["lo"]) * g["inv_cs"]).astype(np.int64)
+        ok = np.all((cell >= 0) & (cell < g["dims"]), axis=1)
+        flat = cell[:, 0] * g["stride"][0] + cell[:, 1] * g["stride"][1] + cell[:, 2]
+        flat = np.where(ok, flat, g["empty"])
+        start = g["offsets"][flat]
+        counts = g["offsets"][flat + 1] - start
+        total = int(counts.sum())
+        pp = np.repeat(np.arange(n), counts)
+        # position of each pair inside its cell's list
+        first = np.cumsum(counts) - counts
+        local = np.arange(total) - np.repeat(first, counts)
+        pi = g["items"][np.repeat(start, counts) + local]
+        return pp, pi
+
+    def evaluate(self, P, need_grad, stats=None):
+        n = len(P)
+        pp, pi = self.pairs(P)
+        if stats is not None:
+            stats.pairs += len(pp)
+        Pp = P if pi is None else P[pp]
+        d2, V = PR.dist2(Pp, self.prm, pi)
+        if pi is not None:
+            keep = d2 < self.prm["R"][pi] ** 2
+            if not keep.all():
+                pp, pi, d2, V = pp[keep], pi[keep], d2[keep], V[keep]
+        f, g = PR.kernel(d2, V, self.prm, pi, need_grad)
+        if pi is None:
+            return _single(f, g, self.reduce, self.n)
+        return _reduce(self.reduce, self.n, n, pp, f, g)
+
+
+def _single(f, g, reduce, n):
+    if reduce == "ricci":
+        # (f^n)^(1/n) of non-negative f is f itself
+        return np.maximum(f, 0.0), (None if g is None else np.where((f > 0)[:, None], g, 0.0))
+    return f, g
+
+
+def _reduce(reduce, n_exp, n, pp, f, g):
+    if reduce == "sum":
+        F = np.bincount(pp, weights=f, minlength=n)
+        if g is None:
+            return F, None
+        G = np.stack([np.bincount(pp, weights=g[:, k], minlength=n) for k in range(3)], axis=1)
+        return F, G
+    if reduce == "max":
+        F = np.zeros(n)
+        G = np.zeros((n, 3)) if g is not None else None
+        if len(pp) == 0:
+            return F, G
+        starts = np.flatnonzero(np.r_[True, pp[1:] != pp[:-1]])
+        owners = pp[starts]
+        seg_max = np.maximum.reduceat(f, starts)
+        F[owners] = np.maximum(seg_max, 0.0)
+        if g is not None:
+            seg_id = np.repeat(np.arange(len(starts)), np.diff(np.r_[starts, len(pp)]))
+            hit = np.flatnonzero(f == seg_max[seg_id])
+            _, first = np.unique(seg_id[hit], return_index=True)
+            win = hit[first]
+            G[pp[win]] = np.where((f[win] > 0)[:, None], g[win], 0.0)
+        return F, G
+    # ricci over non-negative members
+    fp = np.maximum(f, 0.0)
+    S = np.bincount(pp, weights=fp ** n_exp, minlength=n)
+    F = S ** (1.0 / n_exp)
+    if g is None:
+        return F, None
+    w = fp ** (n_exp - 1.0)
+    W = np.stack([np.bincount(pp, weights=w * g[:, k], minlength=n) for k in range(3)], axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.where(F > 0, F ** (1.0 - n_exp), 0.0)
+    return F, c[:, None] * W
+
+
+def _build_grid(prm, plo, phi):
+    lo = plo.min(0)
+    hi = phi.max(0)
+    ext = np.maximum(hi - lo, 1e-12)
+    typical = np.median(phi - plo, axis=0).max()
+    cs = max(typical / 2.0, (np.prod(ext) / GRID_MAX_CELLS) ** (1 / 3), 1e-12)
+    dims = np.maximum(np.ceil(ext / cs).astype(np.int64), 1)
+    slo, shi = PR.skeleton_bounds(prm)
+    R = prm["R"]
+    cells_of = []
+    members = []
+    for i in range(len(R)):
+        a = np.clip(np.floor((plo[i] - lo) / cs).astype(np.int64), 0, dims - 1)
+        b = np.clip(np.floor((phi[i] - lo) / cs).astype(np.int64), 0, dims - 1)
+        ix, iy, iz = np.meshgrid(np.arange(a[0], b[0] + 1), np.arange(a[1], b[1] + 1),
+                                 np.arange(a[2], b[2] + 1), indexing="ij")
+        cidx = np.stack([ix.ravel(), iy.ravel(), iz.ravel()], axis=1)
+        clo = lo + cidx * cs
+        chi = clo + cs
+        # distance between the cell box and the skeleton's box
+        gap = np.maximum(np.maximum(slo[i] - chi, clo - shi[i]), 0.0)
+        near = np.einsum("ij,ij->i", gap, gap) < R[i] * R[i]
+        c = cidx[near]
+        cells_of.append(c[:, 0] * dims[1] * dims[2] + c[:, 1] * dims[2] + c[:, 2])
+        members.append(np.full(len(c), i, dtype=np.int64))
+    cells = np.concatenate(cells_of) if cells_of else np.zeros(0, np.int64)
+    mem = np.concatenate(members) if members else np.zeros(0, np.int64)
+    order = np.argsort(cells, kind="stable")
+    ncell = int(np.prod(dims))
+    counts = np.bincount(cells, minlength=ncell + 1)   # the extra last cell stays empty
+    offsets = np.concatenate([[0], np.cumsum(counts)])
+    return {"lo": lo, "inv_cs": 1.0 / cs, "cs": cs, "dims": dims,
+            "stride": np.array([dims[1] * dims[2], dims[2], 1]),
+            "empty": ncell, "offsets": offsets, "items": mem[order]}

@@ -1,0 +1,160 @@
+"""Compile a BlobTree into an evaluation plan with support bounds on every node.
+
+The optimised plan (the default) folds rigid and uniformly scaled transforms into the
+primitives below them, flattens nested operators of one kind and gathers the primitive
+children of each blend, union and ricci into vectorised :class:`~.groups.Group`s. The
+naive plan maps the tree one to one (every node, every point): it is the reference the
+optimised plan must equal, and the baseline of ``bench/field.py``.
+
+Support bounds are conservative boxes, in each node's input coordinates, outside of
+which the node's field is exactly 0; value bounds ``[vlo, vhi]`` make that sound for
+intersection and difference (see :func:`_op_bounds`).
+"""
+import numpy as np
+
+from . import nodes as N
+from . import primitives as PR
+from . import warps as W
+from .groups import Group
+
+INF = np.inf
+EMPTY = (np.full(3, INF), np.full(3, -INF))
+
+
+class Op:
+    def __init__(self, op, children, iso, n=1.0):
+        self.op, self.children, self.iso, self.n = op, list(children), iso, float(n)
+        self.lo, self.hi, self.vlo, self.vhi = _op_bounds(self)
+
+    def __repr__(self):
+        return f"Op({self.op}, {len(self.children)} children)"
+
+
+class Warp:
+    def __init__(self, kind, child, **params):
+        self.kind, self.child, self.params = kind, child, params
+        lo, hi = child.lo, child.hi
+        if kind == "affine":
+            self.lo, self.hi = W.affine_bounds(lo, hi, params["L"], params["t"])
+        elif kind == "twist":
+            self.lo, self.hi = W.twist_bounds(lo, hi, params["rate"])
+        elif kind == "taper":
+            self.lo, self.hi = W.taper_bounds(lo, hi, params["rate"])
+        else:
+            self.lo, self.hi = W.bend_bounds(lo, hi, params["rate"])
+        self.vlo, self.vhi = child.vlo, child.vhi
+
+    def __repr__(self):
+        return f"Warp({self.kind})"
+
+
+def _union_box(kids):
+    return (np.min([k.lo for k in kids], axis=0), np.max([k.hi for k in kids], axis=0))
+
+
+def _op_bounds(node):
+    kids = node.children
+    lo, hi = _union_box(kids)
+    vl = [k.vlo for k in kids]
+    vh = [k.vhi for k in kids]
+    if node.op == "blend":
+        return lo, hi, sum(vl), sum(vh)
+    if node.op == "union":
+        return lo, hi, max(vl), max(vh)
+    if node.op == "ricci":
+        return lo, hi, 0.0, float(sum(max(v, 0.0) ** node.n for v in vh) ** (1 / node.n))
+    if node.op == "intersection":
+        if min(vl) >= 0:   # outside any child's support that child is 0, so min is 0
+            lo = np.max([k.lo for k in kids], axis=0)
+            hi = np.min([k.hi for k in kids], axis=0)
+            if np.any(lo > hi):
+                lo, hi = EMPTY
+        return lo, hi, min(vl), min(vh)
+    if node.op == "difference":
+        two_iso = 2 * node.iso
+        m_lo, m_hi = max(vl[1:]), max(vh[1:])
+        if m_hi <= two_iso:   # outside the first child: min(0, 2iso - max) = 0
+            lo, hi = kids[0].lo, kids[0].hi
+        return lo, hi, min(vl[0], two_iso - m_hi), min(vh[0], two_iso - m_lo)
+    raise AssertionError(node.op)
+
+
+_REDUCE = {"blend": "sum", "union": "max", "ricci": "ricci"}
+
+
+def _is_similarity(M):
+    s2 = (abs(np.linalg.det(M)) ** (1 / 3)) ** 2
+    return s2 > 0 and np.allclose(M.T @ M, s2 * np.eye(3), rtol=0, atol=1e-12 * max(s2, 1.0))
+
+
+class _Builder:
+    def __init__(self, iso, optimize):
+        self.iso, self.optimize = iso, optimize
+
+    def build(self, node, M=None, t=None):
+        """Plan for ``node`` seen through the similarity p = M q + t (optimised plans)."""
+        if isinstance(node, tuple(N.PRIMITIVES.values())):
+            if M is not None:
+                folded = PR.fold_similarity(node, M, t)
+                if folded is None:
+                    return self._affine(Group([node], use_grid=False), M, t)
+                node = folded
+            return Group([node], use_grid=False)
+        if isinstance(node, N.Transform):
+            L, tt = W.transform_matrix(node.translate, node.rotate, node.scale)
+            if M is not None:
+                L, tt = M @ L, M @ tt + t
+            if self.optimize and _is_similarity(L):
+                return self.build(node.child, L, tt)
+            return self._affine(self.build(node.child), L, tt)
+        if isinstance(node, (N.Twist, N.Taper, N.Bend)):
+            kind = N.TYPE_NAME[type(node)]
+            inner = Warp(kind, self.build(node.child), rate=float(node.rate))
+            return inner if M is None else self._affine(inner, M, t)
+        op = N.TYPE_NAME[type(node)]
+        kids = [self.build(c, M, t) for c in node.children]
+        n = getattr(node, "n", 1.0)
+        if self.optimize:
+            kids = self._flatten(op, n, kids)
+            kids = self._group(op, n, kids)
+            if len(kids) == 1 and op in ("blend", "union", "intersection"):
+                return kids[0]
+        return Op(op, kids, self.iso, n)
+
+    def _affine(self, child, L, t):
+        A, b = W.affine_inverse(L, t)
+        return Warp("affine", child, A=A, b=b, L=L, t=t)
+
+    @staticmethod
+    def _flatten(op, n, kids):
+        if op not in ("blend", "union", "intersection", "ricci"):
+            return kids
+        out = []
+        for k in kids:
+            if isinstance(k, Op) and k.op == op and (op != "ricci" or k.n == n):
+                out.extend(k.children)
+            else:
+                out.append(k)
+        return out
+
+    @staticmethod
+    def _group(op, n, kids):
+        if op not in _REDUCE:
+            return kids
+        reduce = _REDUCE[op]
+        by_kind, rest = {}, []
+        for k in kids:
+            plain = isinstance(k, Group) and k.m == 1 and k.reduce == "sum"
+            if plain and (reduce == "sum" or k.prm["S"][0] >= 0):
+                by_kind.setdefault(k.kind, []).append(k)
+            else:
+                rest.append(k)
+        groups = []
+        for kind, members in by_kind.items():
+            prims = [g.source for g in members]
+            groups.append(Group(prims, reduce=reduce, n=n))
+        return groups + rest
+
+
+def compile_plan(model, optimize=True):
+    return _Builder(model.iso, optimize).build(model.root)
