@@ -86,12 +86,17 @@ def _single(f, g, reduce, n):
     return f, g
 
 
+def _bincount(pp, w, n):
+    # np.bincount returns int64 for empty input even with float weights
+    return np.bincount(pp, weights=w, minlength=n).astype(np.float64, copy=False)
+
+
 def _reduce(reduce, n_exp, n, pp, f, g):
     if reduce == "sum":
-        F = np.bincount(pp, weights=f, minlength=n)
+        F = _bincount(pp, f, n)
         if g is None:
             return F, None
-        G = np.stack([np.bincount(pp, weights=g[:, k], minlength=n) for k in range(3)], axis=1)
+        G = np.stack([_bincount(pp, g[:, k], n) for k in range(3)], axis=1)
         return F, G
     if reduce == "max":
         F = np.zeros(n)
@@ -111,12 +116,12 @@ def _reduce(reduce, n_exp, n, pp, f, g):
         return F, G
     # ricci over non-negative members
     fp = np.maximum(f, 0.0)
-    S = np.bincount(pp, weights=fp ** n_exp, minlength=n)
+    S = _bincount(pp, fp ** n_exp, n)
     F = S ** (1.0 / n_exp)
     if g is None:
         return F, None
     w = fp ** (n_exp - 1.0)
-    W = np.stack([np.bincount(pp, weights=w * g[:, k], minlength=n) for k in range(3)], axis=1)
+    W = np.stack([_bincount(pp, w * g[:, k], n) for k in range(3)], axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.where(F > 0, F ** (1.0 - n_exp), 0.0)
     return F, c[:, None] * W
