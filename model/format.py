@@ -256,6 +256,8 @@ def to_dict(model):
     """The canonical JSON document of a model (default-valued optional keys omitted)."""
     built = []
     for node in reversed(list(N.iter_nodes(model.root))):   # children before parents
+        if type(node) not in N.TYPE_NAME:
+            raise TypeError(f"not a BlobTree node: {node!r:.60}")
         t = N.TYPE_NAME[type(node)]
         d = {"type": t}
         if node.name is not None:
