@@ -2,7 +2,9 @@
 in pen and ink as Grease Pencil (a Blender extension)."""
 import bpy
 
-from . import cli
+from . import blobtree_nodes, cli
+
+modules = (blobtree_nodes,)
 
 
 def _cli_command(argv):
@@ -15,6 +17,8 @@ CLI_COMMAND = "blobtree_ink"
 
 def register():
     global _cli_handle
+    for m in modules:
+        m.register()
     # Blender only accepts a Python identifier as a command id, so the command is
     # `blender -c blobtree_ink ...` (the repository script is still ./blobtree-ink).
     _cli_handle = bpy.utils.register_cli_command(CLI_COMMAND, _cli_command)
@@ -25,3 +29,5 @@ def unregister():
     if _cli_handle is not None:
         bpy.utils.unregister_cli_command(_cli_handle)
         _cli_handle = None
+    for m in reversed(modules):
+        m.unregister()

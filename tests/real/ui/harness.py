@@ -1,0 +1,89 @@
+"""Drive the real Blender UI under Xvfb (run where Blender lives: tools/blender-env).
+
+    python3 harness.py --script UI_SCRIPT.py --out DIR [--user DIR] [--steps STEPS.json]
+
+Starts Xvfb, starts Blender (full UI, factory settings, the extension enabled by the
+UI script) and then follows the steps the UI script asks for: the script writes
+requests into DIR/request-N.json ({"action": "screenshot"|"key"|"done", ...}) and the
+harness answers with DIR/reply-N.json after taking an `xwd -root` screenshot (Blender's
+own screenshot operator gives a black image under Xvfb) or sending keys with xdotool.
+"""
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+
+def wait_for(path, timeout, proc=None):
+    end = time.time() + timeout
+    while time.time() < end:
+        if os.path.exists(path):
+            time.sleep(0.05)
+            return True
+        if proc is not None and proc.poll() is not None:
+            return False
+        time.sleep(0.05)
+    return False
+
+
+def screenshot(display, png):
+    xwd = subprocess.run(["xwd", "-root", "-silent", "-display", display], check=True, capture_output=True).stdout
+    subprocess.run(["convert", "xwd:-", "png:" + png], input=xwd, check=True)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--script", required=True)
+    ap.add_argument("--out", required=True)
+    ap.add_argument("--user", required=True)
+    ap.add_argument("--display", default=":77")
+    ap.add_argument("--timeout", type=float, default=120)
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    env = dict(os.environ, DISPLAY=a.display, BLENDER_USER_RESOURCES=a.user, BTI_UI_OUT=a.out)
+    xvfb = subprocess.Popen(["Xvfb", a.display, "-screen", "0", "1600x900x24", "-nolisten", "tcp"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    log = open(os.path.join(a.out, "blender.log"), "w")
+    blender = None
+    try:
+        time.sleep(1.0)
+        blender = subprocess.Popen(["blender", "--factory-startup", "--python", a.script],
+                                   env=env, stdout=log, stderr=subprocess.STDOUT)
+        n = 0
+        deadline = time.time() + a.timeout
+        while True:
+            req = os.path.join(a.out, f"request-{n}.json")
+            if not wait_for(req, max(1.0, deadline - time.time()), blender):
+                sys.exit(f"UI script stopped answering at step {n} (see {a.out}/blender.log)")
+            r = json.load(open(req))
+            reply = {"ok": True}
+            if r["action"] == "screenshot":
+                screenshot(a.display, os.path.join(a.out, r["name"]))
+            elif r["action"] == "key":
+                for k in r["keys"]:
+                    subprocess.run(["xdotool", "key", k], env=env, check=True)
+                    time.sleep(r.get("pause", 0.2))
+            elif r["action"] == "done":
+                break
+            with open(os.path.join(a.out, f"reply-{n}.json.tmp"), "w") as fh:
+                json.dump(reply, fh)
+            os.replace(os.path.join(a.out, f"reply-{n}.json.tmp"), os.path.join(a.out, f"reply-{n}.json"))
+            n += 1
+        blender.wait(timeout=30)
+    finally:
+        if blender is not None and blender.poll() is None:
+            blender.send_signal(signal.SIGTERM)
+            try:
+                blender.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                blender.kill()
+        xvfb.terminate()
+        xvfb.wait()
+        log.close()
+
+
+if __name__ == "__main__":
+    main()
