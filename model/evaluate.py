@@ -62,39 +62,63 @@ class Evaluator:
         F = np.empty(n)
         G = np.empty((n, 3)) if need_grad else None
         for a in range(0, n, CHUNK):
-            f, g = evaluate(self.plan, P[a:a + CHUNK], need_grad, self.prune, self.stats)
+            cols = np.ascontiguousarray(P[a:a + CHUNK].T)      # (3, n) layout inside
+            f, g = evaluate(self.plan, cols, need_grad, self.prune, self.stats)
             F[a:a + CHUNK] = f
             if need_grad:
-                G[a:a + CHUNK] = g
+                G[a:a + CHUNK] = g.T
         return F, G
 
 
-def _inside(P, lo, hi):
-    return np.all((P >= lo) & (P <= hi), axis=1)
-
-
 def evaluate(node, P, need_grad, prune=True, stats=None):
-    n = len(P)
-    if prune:
-        mask = _inside(P, node.lo, node.hi)
-        if not mask.all():
-            F = np.zeros(n)
-            G = np.zeros((n, 3)) if need_grad else None
-            if mask.any():
-                f, g = _dispatch(node, P[mask], need_grad, prune, stats)
-                F[mask] = f
-                if need_grad:
-                    G[mask] = g
-            return F, G
-    return _dispatch(node, P, need_grad, prune, stats)
+    """Field (n,) and gradient (3, n) of a plan node at P (3, n), as dense arrays."""
+    idx, f, g = _sparse(node, P, need_grad, prune, stats, None)
+    if idx is None:
+        return f, g
+    n = P.shape[1]
+    F = np.zeros(n)
+    F[idx] = f
+    G = None
+    if need_grad:
+        G = np.zeros((3, n))
+        G[:, idx] = g
+    return F, G
 
 
-def _dispatch(node, P, need_grad, prune, stats):
+def _box(P):
+    return P.min(axis=1), P.max(axis=1)
+
+
+def _sparse(node, P, need_grad, prune, stats, pbox):
+    """(idx, f, g): the node's field and gradient at the columns idx of P (None: all
+    columns); every other column lies outside the node's support, where it is 0."""
+    n = P.shape[1]
+    idx = None
+    if prune and n:
+        plo, phi = pbox if pbox is not None else _box(P)
+        lo, hi = node.lo, node.hi
+        if np.any(phi < lo) or np.any(plo > hi):
+            return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
+        if not (np.all(plo >= lo) and np.all(phi <= hi)):
+            m = (P[0] >= lo[0]) & (P[0] <= hi[0])
+            m &= (P[1] >= lo[1]) & (P[1] <= hi[1])
+            m &= (P[2] >= lo[2]) & (P[2] <= hi[2])
+            idx = np.flatnonzero(m)
+            if len(idx) == 0:
+                return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
+            P = P[:, idx]
     if isinstance(node, Group):
-        return node.evaluate(P, need_grad, stats)
-    if isinstance(node, Warp):
-        return _warp(node, P, need_grad, prune, stats)
-    return _op(node, P, need_grad, prune, stats)
+        f, g = node.evaluate(P, need_grad, stats)
+    elif isinstance(node, Warp):
+        f, g = _warp(node, P, need_grad, prune, stats)
+    else:
+        f, g = _op(node, P, need_grad, prune, stats)
+    return idx, f, g
+
+
+_EMPTY = np.zeros(0, np.int64)
+_EMPTY_F = np.zeros(0)
+_EMPTY_G = np.zeros((3, 0))
 
 
 def _warp(node, P, need_grad, prune, stats):
@@ -111,48 +135,101 @@ def _warp(node, P, need_grad, prune, stats):
     if not need_grad:
         return f, None
     if J.ndim == 2:
-        return f, gq @ J
-    return f, np.einsum("nki,nk->ni", J, gq)
+        return f, J.T @ gq                       # grad_p = J^T grad_q
+    return f, np.einsum("kin,kn->in", J, gq)
 
 
 def _op(node, P, need_grad, prune, stats):
-    res = [evaluate(c, P, need_grad, prune, stats) for c in node.children]
+    n = P.shape[1]
+    box = _box(P) if prune and n else None
+    kids = [_sparse(c, P, need_grad, prune, stats, box) for c in node.children]
     op = node.op
     if op == "blend":
-        F = res[0][0].copy()
-        for f, _ in res[1:]:
-            F += f
-        if not need_grad:
-            return F, None
-        G = res[0][1].copy()
-        for _, g in res[1:]:
-            G += g
-        return F, G
-    fs = np.stack([r[0] for r in res])
-    rows = np.arange(fs.shape[1])
-    if op in ("union", "intersection"):
-        k = np.argmax(fs, axis=0) if op == "union" else np.argmin(fs, axis=0)
-        F = fs[k, rows]
-        return F, (np.stack([r[1] for r in res])[k, rows] if need_grad else None)
+        return _sum(kids, n, need_grad)
+    if op == "union":
+        return _extreme(kids, n, need_grad, np.greater, node.children)
+    if op == "intersection":
+        return _extreme(kids, n, need_grad, np.less, node.children)
     if op == "difference":
-        A = fs[0]
-        others = fs[1:]
-        j = np.argmax(others, axis=0)
-        B = 2 * node.iso - others[j, rows]
+        A, gA = _dense(kids[0], n, need_grad)
+        M, gM = _extreme(kids[1:], n, need_grad, np.greater, node.children[1:])
+        B = 2 * node.iso - M
         first = A <= B
         F = np.where(first, A, B)
-        if not need_grad:
-            return F, None
-        gs = np.stack([r[1] for r in res[1:]])
-        return F, np.where(first[:, None], res[0][1], -gs[j, rows])
-    # ricci: (sum max(f,0)^n)^(1/n)
-    nexp = node.n
-    fp = np.maximum(fs, 0.0)
-    F = (fp ** nexp).sum(0) ** (1.0 / nexp)
+        return F, (np.where(first, gA, -gM) if need_grad else None)
+    return _ricci(kids, n, need_grad, node.n)
+
+
+def _dense(kid, n, need_grad):
+    idx, f, g = kid
+    if idx is None:
+        return f, g
+    F = np.zeros(n)
+    F[idx] = f
+    G = None
+    if need_grad:
+        G = np.zeros((3, n))
+        G[:, idx] = g
+    return F, G
+
+
+def _sum(kids, n, need_grad):
+    F = np.zeros(n)
+    G = np.zeros((3, n)) if need_grad else None
+    for idx, f, g in kids:
+        if idx is None:
+            F += f
+            if need_grad:
+                G += g
+        else:
+            F[idx] += f
+            if need_grad:
+                G[:, idx] += g
+    return F, G
+
+
+def _extreme(kids, n, need_grad, better, nodes):
+    """max (better=np.greater) or min (np.less) over children that are 0 outside their
+    support; the first child wins ties, as argmax/argmin would."""
+    F = np.full(n, -np.inf if better is np.greater else np.inf)
+    G = np.zeros((3, n)) if need_grad else None
+    cover = np.zeros(n, np.int32)
+    for idx, f, g in kids:
+        if idx is None:
+            win = better(f, F)
+            F = np.where(win, f, F)
+            if need_grad:
+                G = np.where(win, g, G)
+            cover += 1
+        else:
+            cur = F[idx]
+            win = better(f, cur)
+            F[idx] = np.where(win, f, cur)
+            if need_grad:
+                G[:, idx] = np.where(win, g, G[:, idx])
+            cover[idx] += 1
+    # a child that does not cover a point is 0 there
+    partial = cover < len(kids)
+    if partial.any():
+        zero_wins = partial & better(0.0, F)
+        F[zero_wins] = 0.0
+        if need_grad:
+            G[:, zero_wins] = 0.0
+    return F, G
+
+
+def _ricci(kids, n, need_grad, nexp):
+    S = np.zeros(n)
+    Wg = np.zeros((3, n)) if need_grad else None
+    for idx, f, g in kids:
+        fp = np.maximum(f, 0.0)
+        sl = slice(None) if idx is None else idx
+        S[sl] += fp ** nexp
+        if need_grad:
+            Wg[:, sl] += fp ** (nexp - 1.0) * g
+    F = S ** (1.0 / nexp)
     if not need_grad:
         return F, None
-    w = fp ** (nexp - 1.0)
-    Wg = np.einsum("kn,knj->nj", w, np.stack([r[1] for r in res]))
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.where(F > 0, F ** (1.0 - nexp), 0.0)
-    return F, c[:, None] * Wg
+    return F, c * Wg

@@ -39,50 +39,55 @@ class Group:
         return f"Group({self.kind} x{self.m}, {self.reduce})"
 
     def pairs(self, P):
-        """(point index, member index) candidate pairs, sorted by point."""
-        n = len(P)
+        """Candidate pairs for P (3, n): point index and member index of each pair,
+        sorted by point, and the number of pairs of each point."""
+        n = P.shape[1]
         if self.grid is None:
             if self.m == 1:
-                return np.arange(n), None
+                return None, None, None
             pp = np.repeat(np.arange(n), self.m)
             pi = np.tile(np.arange(self.m), n)
-            return pp, pi
+            return pp, pi, np.full(n, self.m)
         g = self.grid
-        cell = np.floor((P - g["lo"]) * g["inv_cs"]).astype(np.int64)
-        ok = np.all((cell >= 0) & (cell < g["dims"]), axis=1)
-        flat = cell[:, 0] * g["stride"][0] + cell[:, 1] * g["stride"][1] + cell[:, 2]
-        flat = np.where(ok, flat, g["empty"])
+        lo, inv, dims = g["lo"], g["inv_cs"], g["dims"]
+        ok = np.ones(n, bool)
+        flat = np.zeros(n, np.int64)
+        for k in range(3):
+            c = np.floor((P[k] - lo[k]) * inv).astype(np.int64)
+            ok &= (c >= 0) & (c < dims[k])
+            flat += c * g["stride"][k]
+        flat[~ok] = g["empty"]
         start = g["offsets"][flat]
         counts = g["offsets"][flat + 1] - start
         total = int(counts.sum())
         pp = np.repeat(np.arange(n), counts)
         # position of each pair inside its cell's list
-        first = np.cumsum(counts) - counts
-        local = np.arange(total) - np.repeat(first, counts)
-        pi = g["items"][np.repeat(start, counts) + local]
-        return pp, pi
+        local = np.arange(total) - np.repeat(np.cumsum(counts) - counts - start, counts)
+        pi = g["items"][local]
+        return pp, pi, counts
 
     def evaluate(self, P, need_grad, stats=None):
-        n = len(P)
-        pp, pi = self.pairs(P)
+        n = P.shape[1]
+        pp, pi, counts = self.pairs(P)
+        if pi is None:
+            if stats is not None:
+                stats.pairs += n
+            d2, V = PR.dist2(P, self.prm, None)
+            f, g = PR.kernel(d2, V, self.prm, None, need_grad)
+            return _single(f, g, self.reduce)
         if stats is not None:
             stats.pairs += len(pp)
-        Pp = P if pi is None else P[pp]
-        d2, V = PR.dist2(Pp, self.prm, pi)
-        if pi is not None:
-            keep = d2 < self.prm["R"][pi] ** 2
-            if not keep.all():
-                pp, pi, d2, V = pp[keep], pi[keep], d2[keep], V[keep]
+        # pairs are sorted by point: repeating columns is cheaper than gathering them;
+        # pairs beyond a primitive's radius just give 0 (no compaction pass)
+        d2, V = PR.dist2(np.repeat(P, counts, axis=1), self.prm, pi)
         f, g = PR.kernel(d2, V, self.prm, pi, need_grad)
-        if pi is None:
-            return _single(f, g, self.reduce, self.n)
         return _reduce(self.reduce, self.n, n, pp, f, g)
 
 
-def _single(f, g, reduce, n):
+def _single(f, g, reduce):
     if reduce == "ricci":
         # (f^n)^(1/n) of non-negative f is f itself
-        return np.maximum(f, 0.0), (None if g is None else np.where((f > 0)[:, None], g, 0.0))
+        return np.maximum(f, 0.0), (None if g is None else np.where(f > 0, g, 0.0))
     return f, g
 
 
@@ -96,11 +101,10 @@ def _reduce(reduce, n_exp, n, pp, f, g):
         F = _bincount(pp, f, n)
         if g is None:
             return F, None
-        G = np.stack([_bincount(pp, g[:, k], n) for k in range(3)], axis=1)
-        return F, G
+        return F, np.stack([_bincount(pp, g[k], n) for k in range(3)])
     if reduce == "max":
         F = np.zeros(n)
-        G = np.zeros((n, 3)) if g is not None else None
+        G = np.zeros((3, n)) if g is not None else None
         if len(pp) == 0:
             return F, G
         starts = np.flatnonzero(np.r_[True, pp[1:] != pp[:-1]])
@@ -112,7 +116,7 @@ def _reduce(reduce, n_exp, n, pp, f, g):
             hit = np.flatnonzero(f == seg_max[seg_id])
             _, first = np.unique(seg_id[hit], return_index=True)
             win = hit[first]
-            G[pp[win]] = np.where((f[win] > 0)[:, None], g[win], 0.0)
+            G[:, pp[win]] = np.where(f[win] > 0, g[:, win], 0.0)
         return F, G
     # ricci over non-negative members
     fp = np.maximum(f, 0.0)
@@ -121,10 +125,10 @@ def _reduce(reduce, n_exp, n, pp, f, g):
     if g is None:
         return F, None
     w = fp ** (n_exp - 1.0)
-    W = np.stack([_bincount(pp, w * g[:, k], n) for k in range(3)], axis=1)
+    W = np.stack([_bincount(pp, w * g[k], n) for k in range(3)])
     with np.errstate(divide="ignore", invalid="ignore"):
         c = np.where(F > 0, F ** (1.0 - n_exp), 0.0)
-    return F, c[:, None] * W
+    return F, c * W
 
 
 def _build_grid(prm, plo, phi):

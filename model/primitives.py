@@ -1,7 +1,7 @@
 """Skeletal primitives as batched geometry: packed parameters, bounds, distances.
 
 Every primitive kind provides ``dist2(P, prm, idx)`` returning ``(d2, V)`` for the
-points ``P`` (n,3) against primitives ``idx`` (n,) of a packed group, where ``d2`` is
+points ``P`` (3,n) against primitives ``idx`` (n,) of a packed group, where ``d2`` is
 the squared distance to the skeleton and ``V`` is half its gradient (so
 ``grad d2 = 2 V``). The kernel of the format, ``f = s * (1 - d2/R^2)^3``, is applied
 in :func:`kernel`; one code path serves a single point (a batch of one), a group of
@@ -24,7 +24,7 @@ def pack(prims):
     kind = N.TYPE_NAME[type(prims[0])]
     R = np.array([p.radius for p in prims], float)
     S = np.array([p.strength for p in prims], float)
-    prm = {"kind": kind, "R": R, "S": S, "invR2": 1.0 / (R * R)}
+    prm = {"kind": kind, "R": R, "S": S, "R2": R * R, "invR2": 1.0 / (R * R)}
     if kind == "point":
         prm["C"] = np.array([p.center for p in prims], float)
     elif kind == "segment":
@@ -41,7 +41,7 @@ def pack(prims):
     elif kind == "box":
         prm["C"] = np.array([p.center for p in prims], float)
         prm["H"] = np.array([p.half_size for p in prims], float)
-    return prm
+    return soa(prm)
 
 
 def skeleton_bounds(prm):
@@ -65,72 +65,78 @@ def support_bounds(prm):
     return lo - R, hi + R
 
 
-def _take(a, idx):
-    return a if idx is None else a[idx]
+def soa(prm):
+    """Column (3, m) copies of the packed vectors, for the (3, n) evaluation layout."""
+    for key in ("C", "A", "AB", "Nrm", "H"):
+        if key in prm:
+            prm[key + "t"] = np.ascontiguousarray(prm[key].T)
+    return prm
 
 
 def dist2(P, prm, idx=None):
     """Squared distance of each point to its primitive's skeleton, and half its gradient.
 
-    ``idx`` selects, per point, the primitive of the group (None: the group has one).
+    ``P`` is (3, n) (one row per coordinate); ``idx`` selects, per point, the primitive
+    of the group (None: the group has exactly one primitive). Returns d2 (n,) and
+    V (3, n) with grad d2 = 2 V.
     """
     kind = prm["kind"]
     if idx is None:
-        sl = slice(0, 1)
-        take = lambda a: a[sl]       # noqa: E731  (broadcast the single primitive)
+        def take(key):
+            a = prm[key]
+            return a[:, 0:1] if a.ndim == 2 else a[0]
     else:
-        take = lambda a: a[idx]      # noqa: E731
+        def take(key):
+            a = prm[key]
+            return a[:, idx] if a.ndim == 2 else a[idx]
     if kind == "point":
-        V = P - take(prm["C"])
-        return np.einsum("ij,ij->i", V, V), V
+        V = P - take("Ct")
+        return V[0] * V[0] + V[1] * V[1] + V[2] * V[2], V
     if kind == "segment":
-        A = take(prm["A"])
-        AB = take(prm["AB"])
-        D = P - A
-        t = np.einsum("ij,ij->i", D, AB) * take(prm["invL2"])
+        D = P - take("At")
+        AB = take("ABt")
+        t = (D[0] * AB[0] + D[1] * AB[1] + D[2] * AB[2]) * take("invL2")
         np.clip(t, 0.0, 1.0, out=t)
-        V = D - t[:, None] * AB
-        return np.einsum("ij,ij->i", V, V), V
+        V = D - t * AB
+        return V[0] * V[0] + V[1] * V[1] + V[2] * V[2], V
     if kind in ("circle", "disc"):
-        D = P - take(prm["C"])
-        n = take(prm["Nrm"])
-        h = np.einsum("ij,ij->i", D, n)
-        W = D - h[:, None] * n
-        rho = np.sqrt(np.einsum("ij,ij->i", W, W))
-        rc = take(prm["RC"])
-        if kind == "circle":
-            e = rho - rc
-        else:
-            e = np.maximum(rho - rc, 0.0)
+        D = P - take("Ct")
+        n = take("Nrmt")
+        h = D[0] * n[0] + D[1] * n[1] + D[2] * n[2]
+        W = D - h * n
+        rho = np.sqrt(W[0] * W[0] + W[1] * W[1] + W[2] * W[2])
+        rc = take("RC")
+        e = rho - rc
+        if kind == "disc":
+            np.maximum(e, 0.0, out=e)
         with np.errstate(divide="ignore", invalid="ignore"):
-            scale = np.where(rho > 0, e / np.where(rho > 0, rho, 1.0), 0.0)
-        V = h[:, None] * n + scale[:, None] * W
+            scale = np.where(rho > 0, e / rho, 0.0)
+        V = h * n + scale * W
         return h * h + e * e, V
     if kind == "box":
-        Q = P - take(prm["C"])
-        H = take(prm["H"])
+        Q = P - take("Ct")
+        H = take("Ht")
         V = Q - np.clip(Q, -H, H)
-        return np.einsum("ij,ij->i", V, V), V
+        return V[0] * V[0] + V[1] * V[1] + V[2] * V[2], V
     raise AssertionError(kind)
 
 
 def kernel(d2, V, prm, idx, need_grad):
-    """Field s*(1-t)^3 (t = d2/R^2 < 1, else 0) and its gradient for each pair."""
+    """Field s*(1-t)^3 (t = d2/R^2 < 1, else 0) and its gradient (3, n) for each pair."""
     if idx is None:
         invR2 = prm["invR2"][0]
         S = prm["S"][0]
     else:
         invR2 = prm["invR2"][idx]
         S = prm["S"][idx]
-    t = d2 * invR2
-    u = np.maximum(1.0 - t, 0.0)
+    u = 1.0 - d2 * invR2
+    np.maximum(u, 0.0, out=u)
     u2 = u * u
     f = S * u2 * u
     if not need_grad:
         return f, None
     # d/dp [s (1 - d2/R^2)^3] = -3 s (1-t)^2 / R^2 * 2 V
-    c = (-6.0 * S * invR2) * u2
-    return f, c[:, None] * V
+    return f, ((-6.0 * S * invR2) * u2) * V
 
 
 def fold_similarity(prim, M, t):

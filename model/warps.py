@@ -1,5 +1,6 @@
-"""Warps and transforms: q = W^-1(p) on (n,3) batches with the Jacobian dq/dp, and the
-forward image of a bounding box (where the warped child's support can land)."""
+"""Warps and transforms: q = W^-1(p) on (3, n) batches (one row per coordinate) with the
+Jacobian dq/dp ((3, 3) when constant, else (3, 3, n)), and the forward image of a
+bounding box (where the warped child's support can land)."""
 import math
 
 import numpy as np
@@ -42,7 +43,7 @@ def unbounded(lo, hi):
 # --- affine (the transform node, and folded similarity transforms) ------------------
 
 def affine_map(P, A, b, need_jac):
-    Q = P @ A.T + b
+    Q = A @ P + b[:, None]
     return Q, (A if need_jac else None)
 
 
@@ -56,23 +57,23 @@ def affine_bounds(lo, hi, L, t):
 # --- twist --------------------------------------------------------------------------
 
 def twist_map(P, rate, need_jac):
-    a = -rate * P[:, 2]
+    x, y, z = P
+    a = -rate * z
     c, s = np.cos(a), np.sin(a)
-    x, y = P[:, 0], P[:, 1]
     Q = np.empty_like(P)
-    Q[:, 0] = c * x - s * y
-    Q[:, 1] = s * x + c * y
-    Q[:, 2] = P[:, 2]
+    Q[0] = c * x - s * y
+    Q[1] = s * x + c * y
+    Q[2] = z
     if not need_jac:
         return Q, None
-    J = np.zeros((len(P), 3, 3))
-    J[:, 0, 0] = c
-    J[:, 0, 1] = -s
-    J[:, 0, 2] = rate * Q[:, 1]
-    J[:, 1, 0] = s
-    J[:, 1, 1] = c
-    J[:, 1, 2] = -rate * Q[:, 0]
-    J[:, 2, 2] = 1.0
+    J = np.zeros((3, 3, P.shape[1]))
+    J[0, 0] = c
+    J[0, 1] = -s
+    J[0, 2] = rate * Q[1]
+    J[1, 0] = s
+    J[1, 1] = c
+    J[1, 2] = -rate * Q[0]
+    J[2, 2] = 1.0
     return Q, J
 
 
@@ -91,21 +92,21 @@ TAPER_MIN = 0.05
 
 
 def taper_map(P, rate, need_jac):
-    raw = 1.0 + rate * P[:, 2]
+    raw = 1.0 + rate * P[2]
     s = np.maximum(raw, TAPER_MIN)
     inv = 1.0 / s
     Q = P.copy()
-    Q[:, 0] *= inv
-    Q[:, 1] *= inv
+    Q[0] *= inv
+    Q[1] *= inv
     if not need_jac:
         return Q, None
-    J = np.zeros((len(P), 3, 3))
-    J[:, 0, 0] = inv
-    J[:, 1, 1] = inv
+    J = np.zeros((3, 3, P.shape[1]))
+    J[0, 0] = inv
+    J[1, 1] = inv
     ds = np.where(raw > TAPER_MIN, rate, 0.0)   # the clamp has zero slope
-    J[:, 0, 2] = -P[:, 0] * ds * inv * inv
-    J[:, 1, 2] = -P[:, 1] * ds * inv * inv
-    J[:, 2, 2] = 1.0
+    J[0, 2] = -P[0] * ds * inv * inv
+    J[1, 2] = -P[1] * ds * inv * inv
+    J[2, 2] = 1.0
     return Q, J
 
 
@@ -125,29 +126,29 @@ def taper_bounds(lo, hi, rate):
 
 def bend_map(P, rate, need_jac):
     if rate == 0:
-        return P, (np.broadcast_to(np.eye(3), (len(P), 3, 3)) if need_jac else None)
+        return P, (np.eye(3) if need_jac else None)
     r = 1.0 / rate
     sg = 1.0 if rate > 0 else -1.0
-    x, y, z = P[:, 0], P[:, 1], P[:, 2]
+    x, y, z = P
     w = r - z
     theta = np.arctan2(sg * x, sg * w)
     rho2 = x * x + w * w
     rho = np.sqrt(rho2)
     Q = np.empty_like(P)
-    Q[:, 0] = theta * r
-    Q[:, 1] = y
-    Q[:, 2] = r - sg * rho
+    Q[0] = theta * r
+    Q[1] = y
+    Q[2] = r - sg * rho
     if not need_jac:
         return Q, None
     with np.errstate(divide="ignore", invalid="ignore"):
-        inv2 = np.where(rho2 > 0, 1.0 / np.where(rho2 > 0, rho2, 1.0), 0.0)
-        inv1 = np.sqrt(inv2)
-    J = np.zeros((len(P), 3, 3))
-    J[:, 0, 0] = r * w * inv2
-    J[:, 0, 2] = r * x * inv2
-    J[:, 1, 1] = 1.0
-    J[:, 2, 0] = -sg * x * inv1
-    J[:, 2, 2] = sg * w * inv1
+        inv2 = np.where(rho2 > 0, 1.0 / rho2, 0.0)
+    inv1 = np.sqrt(inv2)
+    J = np.zeros((3, 3, P.shape[1]))
+    J[0, 0] = r * w * inv2
+    J[0, 2] = r * x * inv2
+    J[1, 1] = 1.0
+    J[2, 0] = -sg * x * inv1
+    J[2, 2] = sg * w * inv1
     return Q, J
 
 
