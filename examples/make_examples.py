@@ -174,20 +174,31 @@ def train():
 
 
 def shell():
-    chambers = []
-    n = 747
-    for k in range(n):
-        th = k * 0.045
+    """A turreted spiral shell: a whorl tube of blended segments along a logarithmic
+    helix, three spiral rows of nodules on it, and the aperture cut away (1497 nodes)."""
+    turns, n_seg, rows, per_row = 5.3, 72, 3, 237
+    th_max = turns * 2 * math.pi
+
+    def centre(th):
         grow = math.exp(0.085 * th)
-        r = 0.12 * grow
-        pos = (r * math.cos(th), r * math.sin(th), 2.0 - 0.35 * (grow - 1))
-        size = 0.16 * grow * (1 + 0.08 * math.sin(7 * th))    # ridges
-        chambers.append(T(P((0, 0, 0), 1.0), translate=pos, rotate=(0.0, 0.0, th), scale=(size, size, size)))
-    end = n * 0.045
-    grow = math.exp(0.085 * end)
-    mouth = P((0.12 * grow * math.cos(end) * 1.25, 0.12 * grow * math.sin(end) * 1.25,
-               2.0 - 0.35 * (grow - 1)), 0.9 * 0.16 * grow, name="aperture")
-    body = N.Blend(name="whorls", children=tuple(chambers))
+        return np.array([0.12 * grow * math.cos(th), 0.12 * grow * math.sin(th), 2.0 - 0.35 * (grow - 1)]), grow
+
+    pts = [centre(th_max * k / n_seg) for k in range(n_seg + 1)]
+    tube = tuple(S(pts[k][0], pts[k + 1][0], 0.17 * pts[k][1], name=f"whorl {k + 1}") for k in range(n_seg))
+    nodules = []
+    for row, (lift, out) in enumerate(((0.55, 0.75), (0.0, 1.0), (-0.5, 0.8))):
+        for k in range(per_row):
+            th = th_max * (k + 0.5 * row) / per_row
+            c, grow = centre(th)
+            radial = np.array([math.cos(th), math.sin(th), 0.0])
+            pos = c + 0.12 * grow * (out * radial + np.array([0, 0, lift]))
+            size = 0.055 * grow
+            nodules.append(T(P((0, 0, 0), 1.0), translate=pos, rotate=(0.0, 0.0, th),
+                             scale=(size, size, size)))
+    end, grow = centre(th_max)
+    mouth = P(end + 0.02 * grow * np.array([math.cos(th_max), math.sin(th_max), 0.0]), 0.2 * grow,
+              name="aperture")
+    body = N.Blend(name="whorls", children=tube + tuple(nodules))
     return N.Model(name="shell", root=N.Difference(name="shell", children=(body, mouth)))
 
 
