@@ -1,0 +1,189 @@
+"""Rough polygonisation of the iso-surface: vectorised surface nets on a regular grid.
+
+One vertex per surface cell (the mean of its edge crossings, found by linear
+interpolation, then optionally moved onto the surface by a few Newton steps), and one
+quad per sign-changing grid edge joining the four cells around it, oriented so that
+its normal points out of the solid (counter-clockwise seen from outside).
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+MIN_RES, MAX_RES = 2, 512
+
+
+class GridError(ValueError):
+    """A grid that cannot be built (bad resolution, empty bounds, too much memory)."""
+
+
+@dataclass
+class Grid:
+    lo: np.ndarray        # (3,) corner of cell (0, 0, 0)
+    cell: np.ndarray      # (3,) cell size
+    res: tuple            # cells per axis
+    field: np.ndarray     # (res+1)^3 corner field values
+
+    def corner(self, ijk):
+        return self.lo + np.asarray(ijk) * self.cell
+
+
+@dataclass
+class Mesh:
+    vertices: np.ndarray  # (V, 3)
+    quads: np.ndarray     # (F, 4) vertex indices, outward counter-clockwise
+    cells: np.ndarray     # (V, 3) integer cell of each vertex
+    grid: Grid
+
+    def triangles(self):
+        q = self.quads
+        return np.concatenate([q[:, [0, 1, 2]], q[:, [0, 2, 3]]])
+
+    def edges(self):
+        """Unique undirected edges (E, 2) of the quads."""
+        q = self.quads
+        e = np.concatenate([q[:, [0, 1]], q[:, [1, 2]], q[:, [2, 3]], q[:, [3, 0]]])
+        e = np.sort(e, axis=1)
+        return np.unique(e, axis=0)
+
+
+def surface_box(ev, res=48, pad_cells=1.5):
+    """Bounds of the solid f >= iso, from a res^3 sampling of the support box."""
+    lo, hi = ev.bounds
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi > lo)):
+        return None
+    axes = [np.linspace(lo[i], hi[i], res) for i in range(3)]
+    X, Y, Z = np.meshgrid(*axes, indexing="ij")
+    inside = (ev.field(np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)) >= ev.iso).reshape(res, res, res)
+    if not inside.any():
+        return None
+    cell = (hi - lo) / (res - 1)
+    idx = [np.flatnonzero(inside.any(axis=tuple(j for j in range(3) if j != i))) for i in range(3)]
+    slo = np.array([axes[i][idx[i][0]] for i in range(3)]) - pad_cells * cell
+    shi = np.array([axes[i][idx[i][-1]] for i in range(3)]) + pad_cells * cell
+    return np.maximum(slo, lo - cell), np.minimum(shi, hi + cell)
+
+
+def sample_grid(ev, res, bounds=None, max_bytes=2 * 2**30):
+    """Field at the corners of a cubic-cell grid of about res cells along the longest
+    side of the bounds (default: the surface box)."""
+    if not isinstance(res, (int, np.integer)) or not MIN_RES <= res <= MAX_RES:
+        raise GridError(f"grid resolution must be a whole number from {MIN_RES} to {MAX_RES}, got {res!r}")
+    if bounds is None:
+        bounds = surface_box(ev)
+        if bounds is None:
+            raise GridError("the model has no surface (its field never reaches iso)")
+    lo, hi = (np.asarray(b, float) for b in bounds)
+    ext = hi - lo
+    if not np.all(np.isfinite(ext)) or np.any(ext <= 0):
+        raise GridError(f"grid bounds must be finite and non-empty, got {lo} .. {hi}")
+    h = ext.max() / res
+    dims = np.maximum(np.ceil(ext / h - 1e-9).astype(int), 1)
+    ncorner = int(np.prod(dims + 1))
+    need = ncorner * 8 * 8     # corners, coordinates and temporaries
+    if need > max_bytes:
+        raise GridError(f"a grid of {dims[0]}x{dims[1]}x{dims[2]} cells needs about {need / 2**30:.1f} GiB; "
+                        f"lower the resolution")
+    lo = lo - (dims * h - ext) / 2
+    axes = [lo[i] + h * np.arange(dims[i] + 1) for i in range(3)]
+    X, Y, Z = np.meshgrid(*axes, indexing="ij")
+    f = ev.field(np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)).reshape(tuple(dims + 1))
+    return Grid(lo=lo, cell=np.full(3, h), res=tuple(int(d) for d in dims), field=f)
+
+
+def polygonise(ev, res, bounds=None, project_steps=3):
+    grid = sample_grid(ev, res, bounds)
+    return mesh_from_grid(ev, grid, project_steps)
+
+
+def mesh_from_grid(ev, grid, project_steps=3):
+    f, iso, h, lo = grid.field, ev.iso, grid.cell, grid.lo
+    nx, ny, nz = grid.res
+    inside = f >= iso
+    cell_sum = np.zeros((nx, ny, nz, 3))
+    cell_cnt = np.zeros((nx, ny, nz))
+    cell_any = np.zeros((nx, ny, nz, 3))     # one edge crossing of each cell
+    edge_lists = []
+    for a in range(3):
+        sl0 = [slice(None)] * 3
+        sl1 = [slice(None)] * 3
+        sl0[a] = slice(0, -1)
+        sl1[a] = slice(1, None)
+        f0, f1 = f[tuple(sl0)], f[tuple(sl1)]
+        change = inside[tuple(sl0)] != inside[tuple(sl1)]
+        ijk = np.argwhere(change)                      # lower corner of each crossing edge
+        t = (iso - f0[change]) / (f1[change] - f0[change])
+        pts = lo + ijk * h
+        pts[:, a] += t * h[a]
+        # the (up to) four cells around the edge
+        b, c = (a + 1) % 3, (a + 2) % 3
+        for db in (-1, 0):
+            for dc in (-1, 0):
+                cidx = ijk.copy()
+                cidx[:, b] += db
+                cidx[:, c] += dc
+                ok = (cidx[:, b] >= 0) & (cidx[:, b] < grid.res[b]) & (cidx[:, c] >= 0) & (cidx[:, c] < grid.res[c])
+                ok &= cidx[:, a] < grid.res[a]
+                flat = np.ravel_multi_index(cidx[ok].T, grid.res)
+                for k in range(3):
+                    cell_sum[..., k].flat[:] += np.bincount(flat, weights=pts[ok, k], minlength=cell_cnt.size)
+                    cell_any[..., k].flat[flat] = pts[ok, k]
+                cell_cnt.flat[:] += np.bincount(flat, minlength=cell_cnt.size)
+        edge_lists.append((a, ijk, inside[tuple(sl0)][change]))
+    active = cell_cnt > 0
+    vid = np.full(grid.res, -1, np.int64)
+    cells = np.argwhere(active)
+    vid[active] = np.arange(len(cells))
+    verts = cell_sum[active] / cell_cnt[active][:, None]
+    quads = []
+    for a, ijk, low_inside in edge_lists:
+        b, c = (a + 1) % 3, (a + 2) % 3          # (a, b, c) cyclic: b x c = +a
+        ok = (ijk[:, b] >= 1) & (ijk[:, c] >= 1) & (ijk[:, b] < grid.res[b]) & (ijk[:, c] < grid.res[c])
+        ok &= ijk[:, a] < grid.res[a]
+        e, li = ijk[ok], low_inside[ok]
+
+        def v(db, dc):
+            cc = e.copy()
+            cc[:, b] += db
+            cc[:, c] += dc
+            return vid[cc[:, 0], cc[:, 1], cc[:, 2]]
+        q = np.stack([v(-1, -1), v(0, -1), v(0, 0), v(-1, 0)], axis=1)
+        # as listed the quad's normal is +a: flip it where the solid lies on the +a side
+        # (the lower corner is outside)
+        q[~li] = q[~li][:, ::-1]
+        quads.append(q)
+    quads = np.concatenate(quads) if quads else np.zeros((0, 4), np.int64)
+    if project_steps and len(verts):
+        # a thin feature can put the mean of a cell's crossings in empty space (no
+        # gradient to follow): start those from one of the cell's own crossings
+        fv = ev.field(verts)
+        lost = fv == 0
+        verts[lost] = cell_any[active][lost]
+        verts = project(ev, verts, steps=project_steps, max_step=h.max())
+    return Mesh(vertices=verts, quads=quads, cells=cells, grid=grid)
+
+
+def project(ev, P, steps=3, max_step=None):
+    """Damped Newton steps along the gradient towards f = iso: each step is clamped in
+    length and halved (up to 4 times) until |f - iso| does not grow."""
+    P = np.array(P, float)
+    f, g = ev.field_grad(P)
+    for _ in range(steps):
+        gg = np.einsum("ij,ij->i", g, g)
+        ok = gg > 1e-300
+        d = np.zeros_like(P)
+        d[ok] = -((f[ok] - ev.iso) / gg[ok])[:, None] * g[ok]
+        if max_step is not None:
+            L = np.linalg.norm(d, axis=1)
+            d *= np.where(L > max_step, max_step / np.maximum(L, 1e-300), 1.0)[:, None]
+        todo = np.flatnonzero(ok)
+        for _ in range(5):
+            if len(todo) == 0:
+                break
+            Q = P[todo] + d[todo]
+            fq, gq = ev.field_grad(Q)
+            better = np.abs(fq - ev.iso) <= np.abs(f[todo] - ev.iso)
+            acc = todo[better]
+            P[acc], f[acc], g[acc] = Q[better], fq[better], gq[better]
+            todo = todo[~better]
+            d[todo] *= 0.5
+    return P
