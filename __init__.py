@@ -2,9 +2,9 @@
 in pen and ink as Grease Pencil (a Blender extension)."""
 import bpy
 
-from . import blobtree_nodes, cli
+from . import blobtree_nodes, cli, operators
 
-modules = (blobtree_nodes,)
+modules = (blobtree_nodes, operators)
 
 
 def _cli_command(argv):

@@ -1,5 +1,9 @@
-"""The BlobTree node tree type."""
+"""The BlobTree node tree type and its settings."""
 import bpy
+
+def _schedule(tree):
+    from . import preview
+    preview.schedule(tree)
 
 
 class BlobTreeNodeTree(bpy.types.NodeTree):
@@ -7,6 +11,26 @@ class BlobTreeNodeTree(bpy.types.NodeTree):
     bl_idname = "BlobTreeInkNodeTree"
     bl_label = "BlobTree"
     bl_icon = "META_BALL"
+
+    iso: bpy.props.FloatProperty(name="Iso Value", default=0.5, soft_min=0.01, soft_max=2.0,
+                                 description="The surface is where the field equals this value",
+                                 update=lambda self, ctx: _schedule(self))
+    preview_resolution: bpy.props.IntProperty(name="Preview Resolution", default=32, min=8, max=128,
+                                              description="Grid cells along the longest side of the preview mesh",
+                                              update=lambda self, ctx: _schedule(self))
+    show_preview: bpy.props.BoolProperty(name="Live Preview", default=True,
+                                         description="Keep a polygonised preview mesh of the model up to date",
+                                         update=lambda self, ctx: _schedule(self))
+    preview_object: bpy.props.PointerProperty(type=bpy.types.Object, name="Preview Object")
+    model_name: bpy.props.StringProperty(name="Model Name", description="The model's name in exported JSON "
+                                         "(the tree's name when empty)")
+    exact_iso: bpy.props.StringProperty(options={"HIDDEN"})
+
+    def update(self):
+        # a tree is nobody's data-block user: keep it in saved files like a material
+        if not self.use_fake_user:
+            self.use_fake_user = True
+        _schedule(self)
 
 
 classes = (BlobTreeNodeTree,)

@@ -17,7 +17,7 @@ MAX_BYTES = 256 * 2**20    # size of a model file
 MAX_ABS = 1e9              # largest magnitude accepted for any coordinate or length
 
 _COMMON = {"type", "name"}
-_SPEC = {
+SPEC = {
     # type: {key: (kind, required)}
     "point": {"center": ("vec", True), "radius": ("pos", True), "strength": ("num", False)},
     "segment": {"a": ("vec", True), "b": ("vec", True), "radius": ("pos", True),
@@ -156,9 +156,9 @@ def _build_tree(root_doc):
         if not isinstance(d, dict):
             raise ModelError(f"{path}: must be a node object, got {_describe(d)}")
         t = d.get("type")
-        if not isinstance(t, str) or t not in _SPEC:
-            raise ModelError(f"{path}.type: must be one of {', '.join(_SPEC)}, got {_describe(t)}")
-        spec = _SPEC[t]
+        if not isinstance(t, str) or t not in SPEC:
+            raise ModelError(f"{path}.type: must be one of {', '.join(SPEC)}, got {_describe(t)}")
+        spec = SPEC[t]
         for k in d:
             if k not in spec and k not in _COMMON:
                 raise ModelError(f"{path}: unknown key {k!r} for a {t} node "
@@ -262,7 +262,7 @@ def to_dict(model):
         d = {"type": t}
         if node.name is not None:
             d["name"] = node.name
-        for k, (kind, required) in _SPEC[t].items():
+        for k, (kind, required) in SPEC[t].items():
             if kind in ("children", "children2"):
                 d["children"] = [built.pop() for _ in node.children]
             elif kind == "child":

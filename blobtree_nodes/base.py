@@ -1,0 +1,111 @@
+"""What every BlobTree node shares: the tree poll, the error shown on the node, exact
+values kept for round trips, and live-preview scheduling on edits.
+
+Blender stores float properties in single precision. So that a model imported from
+JSON exports (and evaluates) with its exact double values, the importer records each
+value next to the single-precision number it put in the property; as long as the
+property still holds that number the exact value is used, and an edit by the artist
+simply wins.
+"""
+import json
+
+import bpy
+
+from . import preview
+from .sockets import SOCKET
+
+TREE = "BlobTreeInkNodeTree"
+ERROR_COLOR = (0.65, 0.12, 0.12)
+
+
+def on_edit(self, context):
+    """Property update callback: the tree changed, schedule its preview."""
+    tree = self.id_data
+    if isinstance(tree, bpy.types.NodeTree) and tree.bl_idname == TREE:
+        preview.schedule(tree)
+
+
+class BlobTreeNode:
+    """Mixin for all BlobTree nodes. Subclasses set ``kind`` (the format type)."""
+    kind = ""
+    error: bpy.props.StringProperty(name="Error", options={"SKIP_SAVE"})
+    exact: bpy.props.StringProperty(name="Exact values", options={"HIDDEN"})
+
+    @classmethod
+    def poll(cls, ntree):
+        return ntree.bl_idname == TREE
+
+    def draw_buttons(self, context, layout):
+        if self.error:
+            box = layout.box()
+            box.alert = True
+            for i, line in enumerate(_wrap(self.error, 34)):
+                box.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
+        self.draw_props(context, layout)
+
+    def draw_props(self, context, layout):
+        pass
+
+    # --- exact values ---------------------------------------------------------------
+    def set_exact(self, key, value):
+        """Set a property from a double (or a 3-vector of doubles) and remember it."""
+        setattr(self, key, value)
+        stored = getattr(self, key)
+        snap = list(stored) if hasattr(stored, "__len__") else float(stored)
+        d = json.loads(self.exact) if self.exact else {}
+        d[key] = [list(value) if hasattr(value, "__len__") else float(value), snap]
+        self.exact = json.dumps(d)
+
+    def value(self, key):
+        """The property's value as doubles: the exact imported value while unedited."""
+        cur = getattr(self, key)
+        cur = [float(x) for x in cur] if hasattr(cur, "__len__") else float(cur)
+        if self.exact:
+            d = json.loads(self.exact)
+            if key in d and d[key][1] == cur:
+                return d[key][0]
+        return cur
+
+    def set_error(self, message):
+        # write only on change: writes notify the tree, which would schedule another
+        # preview rebuild, which would write again
+        if self.error != message:
+            self.error = message
+        if self.use_custom_color != bool(message):
+            self.use_custom_color = bool(message)
+        if message and tuple(self.color) != ERROR_COLOR:
+            self.color = ERROR_COLOR
+
+
+def _wrap(text, width):
+    words, lines, cur = text.split(), [], ""
+    for w in words:
+        if cur and len(cur) + 1 + len(w) > width:
+            lines.append(cur)
+            cur = w
+        else:
+            cur = f"{cur} {w}" if cur else w
+    if cur:
+        lines.append(cur)
+    return lines or [""]
+
+
+def new_input(node, name="Field"):
+    # an explicit identifier spares Blender its linear search for a free one, which
+    # makes adding sockets to a node with hundreds of inputs quadratic
+    ins = node.inputs
+    ident = f"in{len(ins)}"
+    if ident in {s.identifier for s in ins}:
+        ident = f"in{max(int(s.identifier[2:]) for s in ins if s.identifier[2:].isdigit()) + 1}" \
+            if any(s.identifier[2:].isdigit() for s in ins) else f"in{len(ins)}x"
+    return ins.new(SOCKET, name, identifier=ident)
+
+
+def ensure_trailing_input(node, keep_first=0, name="Field"):
+    """N-ary inputs the Blender way: one empty socket after the linked ones."""
+    ins = node.inputs
+    for s in list(ins)[keep_first:-1]:
+        if not s.is_linked:
+            ins.remove(s)
+    if len(ins) <= keep_first or ins[-1].is_linked:
+        new_input(node, name)

@@ -1,0 +1,20 @@
+"""Operators (Blender layer), one per file."""
+import bpy
+
+from . import export_json, import_json, rebuild_preview
+
+classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes)
+
+
+def register():
+    for c in classes:
+        bpy.utils.register_class(c)
+    bpy.types.TOPBAR_MT_file_import.append(import_json.menu_func)
+    bpy.types.TOPBAR_MT_file_export.append(export_json.menu_func)
+
+
+def unregister():
+    bpy.types.TOPBAR_MT_file_export.remove(export_json.menu_func)
+    bpy.types.TOPBAR_MT_file_import.remove(import_json.menu_func)
+    for c in reversed(classes):
+        bpy.utils.unregister_class(c)
