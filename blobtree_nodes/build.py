@@ -47,7 +47,7 @@ def _build(tree, model):
         made.append(bn)
         y = rows.get(depth, 0.0)
         where.append((-COLUMN * depth, y))
-        rows[depth] = y - _height(kind)
+        rows[depth] = y - _height(kind, len(getattr(node, "children", ())))
         if node.name is not None:
             bn.label = node.name
         for key in props.value_keys(kind):
@@ -75,6 +75,8 @@ def _build(tree, model):
         i = index[bn.as_pointer()]
         locs[2 * i], locs[2 * i + 1] = x, y
     tree.nodes.foreach_set("location", locs)
+    for n in tree.nodes:
+        n.select = False
     return made
 
 
@@ -83,6 +85,8 @@ def _set_iso(tree, iso):
     tree.exact_iso = json.dumps([float(iso), float(tree.iso)])
 
 
-def _height(kind):
-    n = len(props.value_keys(kind))
-    return ROW + 22.0 * n + (30.0 if kind in ("point", "segment", "circle", "disc", "box") else 10.0)
+def _height(kind, n_children):
+    """About how tall Blender draws a node of this kind (header, sockets, properties)."""
+    rows = sum(4 if props.is_vector(kind, k) else 1 for k in props.value_keys(kind)) + n_children
+    rows += {"point": 1, "segment": 2, "circle": 1, "disc": 1, "box": 1, "transform": 1}.get(kind, 0)
+    return 50.0 + 22.0 * (rows + 2) + ROW / 3

@@ -30,6 +30,7 @@ def idname(kind):
 
 
 class _Primitive(BlobTreeNode):
+    bl_width_default = 190
     def init(self, context):
         self.outputs.new("BlobTreeInkFieldSocket", "Field")
 
@@ -82,6 +83,7 @@ class _Nary(BlobTreeNode):
 
 
 class _Unary(BlobTreeNode):
+    bl_width_default = 180
     def init(self, context):
         self.outputs.new("BlobTreeInkFieldSocket", "Field")
         new_input(self)

@@ -53,15 +53,17 @@ def test_command_line_through_the_real_blender(tmp_path):
     assert "Traceback" not in p.stderr + p.stdout
 
 
-def test_ui_smoke_shows_the_blobtree_node_editor(user_dir, tmp_path):
+def test_ui_smoke_shows_an_imported_tree_and_its_preview(user_dir, tmp_path):
     out = str(tmp_path / "ui")
     blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
                 "--script", os.path.join(REPO, "tests", "real", "ui", "smoke.py"),
                 "--out", out, "--user", user_dir, timeout=300)
     facts = json.load(open(os.path.join(out, "facts.json")))
     assert facts["extension_enabled"] is True and facts["background"] is False
+    assert facts["import_result"] == ["FINISHED"]
     assert facts["area_type"] == "NODE_EDITOR" and facts["tree_type"] == "BlobTreeInkNodeTree"
-    assert facts["shown_tree"] == "Smoke Tree"
+    assert facts["shown_tree"] == "pear" and facts["tree_nodes"] == 7     # 6 model nodes + output
+    assert facts["preview_faces"] > 500 and facts["preview_visible"] is True
     png = artifact("ui_smoke.png")
     shutil.copy(os.path.join(out, "ui_smoke.png"), png)
     img = read_png(png)
