@@ -3,6 +3,7 @@
 Layout: the Model Output on the right, then one column per depth going left; inside a
 column nodes keep the order of a depth-first walk, so siblings stay together.
 """
+import gc
 import json
 
 from ..model import nodes as N
@@ -16,8 +17,16 @@ ROW = 60.0
 
 def build_tree(tree, model):
     """Fill an empty BlobTree node tree with the model's nodes and links."""
-    with suspend_socket_updates():
-        made = _build(tree, model)
+    # thousands of short-lived RNA wrappers trigger Python's cyclic collector over
+    # Blender's whole object graph again and again: pause it while building
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        with suspend_socket_updates():
+            made = _build(tree, model)
+    finally:
+        if was_enabled:
+            gc.enable()
     for bn in made:                       # now give every operator its empty trailing socket
         if bn.kind in N.OPERATORS:
             bn.update()
