@@ -21,15 +21,16 @@ import bpy  # noqa: E402
 import addon_utils  # noqa: E402
 
 EXT = "bl_ext.user_default.blobtree_ink"
-if not addon_utils.check(EXT)[0]:
-    builder = glob.glob(os.path.join(bpy.utils.resource_path("LOCAL"), "scripts", "addons_core", "bl_pkg", "cli",
-                                     "blender_ext.py"))[0]
+if addon_utils.enable(EXT) is None:          # not installed yet: build and install the zip
     z = os.path.join(tempfile.mkdtemp(), "ext.zip")
-    subprocess.run([sys.executable if not bpy.app.binary_path else bpy.app.binary_path] +
-                   ([builder] if not bpy.app.binary_path else ["--command", "extension"]) +
-                   ["build", "--source-dir", REPO, "--output-filepath", z], check=True, stdout=subprocess.DEVNULL)
+    if bpy.app.binary_path:
+        cmd = [bpy.app.binary_path, "--command", "extension"]
+    else:
+        cmd = [sys.executable, glob.glob(os.path.join(os.path.dirname(bpy.__file__), "..", "..", "addons_core",
+                                                      "bl_pkg", "cli", "blender_ext.py"))[0]]
+    subprocess.run(cmd + ["build", "--source-dir", REPO, "--output-filepath", z], check=True,
+                   stdout=subprocess.DEVNULL)
     bpy.ops.extensions.package_install_files(filepath=z, repo="user_default", enable_on_install=True)
-addon_utils.enable(EXT)
 
 shell = os.path.join(REPO, "examples", "shell.json")
 for preview in (False, True):
