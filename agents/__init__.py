@@ -1,1 +1,3 @@
 """Task agents, the manager and the baseline particle system (pure, numpy only)."""
+from .region import Region  # noqa: F401
+from .session import Outline, Session, Settings  # noqa: F401

@@ -1,0 +1,88 @@
+"""Exploration tasks (Table 1: find features in a region): an agent wanders on the
+surface around a voxel (Reynolds wander in the tangent plane, with containment that
+seeks the voxel's centre when it strays) and identifies feature points by comparing
+each step with the previous one: a sign change of n.v (silhouette), of the mean
+curvature, or a jump of the normal (crease). Found points go to the blackboard, where
+the manager turns them into tracing tasks."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..blackboard.board import FEATURE_KINDS
+from ..model.curvature import curvature
+
+
+@dataclass
+class _Explorer:
+    agent: int
+    voxel: int
+    centre: np.ndarray
+    p: np.ndarray
+    d: np.ndarray
+    s_sil: float
+    s_curv: float
+    n: np.ndarray
+    steps: int = 0
+
+
+def start(session, row):
+    s = session
+    s.explored.add(row)
+    centre = s.bb.lo + (s.bb.vox["ijk"][row] + 0.5) * s.h
+    P, f, g = s.surface.project(centre[None])
+    if not np.isfinite(P).all() or abs(f[0] - s.ev.iso) > 1e-6 * max(1.0, s.ev.iso):
+        return
+    n = s.surface.normals(g)[0]
+    d = np.cross(n, s.rng.normal(size=3))
+    d /= max(np.linalg.norm(d), 1e-300)
+    sil = float(n @ s.view.towards_eye(P)[0])
+    curv = float(curvature(s.ev, P, g)["mean"][0])
+    s.explorers.append(_Explorer(agent=s.free.pop(), voxel=row, centre=centre, p=P[0], d=d, s_sil=sil,
+                                 s_curv=curv, n=n))
+
+
+def step(session):
+    s = session
+    if not s.explorers:
+        return []
+    ex = s.explorers
+    P = np.array([e.p for e in ex])
+    D = np.array([e.d for e in ex])
+    C = np.array([e.centre for e in ex])
+    N = np.array([e.n for e in ex])
+    # wander: a small random change of heading, kept in the tangent plane; containment:
+    # seek the voxel centre when further than a voxel from it
+    jitter = s.rng.normal(scale=0.6, size=D.shape)
+    D = D + jitter
+    away = np.linalg.norm(P - C, axis=1) > s.h
+    D[away] += 2.0 * (C[away] - P[away]) / s.h
+    D -= np.einsum("ij,ij->i", D, N)[:, None] * N
+    D /= np.maximum(np.linalg.norm(D, axis=1, keepdims=True), 1e-300)
+    Q, f, g = s.surface.project(P + 0.35 * s.h * D)
+    n = s.surface.normals(g)
+    sil = np.einsum("ij,ij->i", n, s.view.towards_eye(Q))
+    curv = curvature(s.ev, Q, g)["mean"]
+    rows = s.bb.add_samples(Q, f, g, "path", curvature(s.ev, Q, g))
+    found = {k: [] for k in FEATURE_KINDS}
+    kinds = set(s.settings.kinds)
+    keep = []
+    for i, e in enumerate(ex):
+        if "silhouette" in kinds and (e.s_sil > 0) != (sil[i] > 0):
+            found["silhouette"].append((e.p, Q[i]))
+        if "curvature" in kinds and np.isfinite(curv[i]) and (e.s_curv > 0) != (curv[i] > 0):
+            found["curvature"].append((e.p, Q[i]))
+        if "crease" in kinds and np.arccos(np.clip(e.n @ n[i], -1, 1)) > s.settings.crease_angle:
+            found["crease"].append((e.p, Q[i]))
+        e.p, e.d, e.n, e.s_sil, e.s_curv = Q[i], D[i], n[i], float(sil[i]), float(curv[i])
+        e.steps += 1
+        if e.steps >= s.settings.explore_steps:
+            s.free.append(e.agent)
+        else:
+            keep.append(e)
+    s.explorers = keep
+    for kind, pairs in found.items():
+        if pairs:
+            a = np.array([p for p, _ in pairs])
+            b = np.array([q for _, q in pairs])
+            s.bb.add_features(0.5 * (a + b), a, b, kind)
+    return [rows]

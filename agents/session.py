@@ -1,0 +1,330 @@
+"""A MASSRIS sampling session: a resumable stepper (paper sections 4-6).
+
+    s = Session(model, View(eye=...), Settings(resolution=20, agents=10))
+    s.request("OUTLINES")              # Table 1 requests, optionally in a Region
+    while not s.done: s.step()         # or s.run(seconds=..., iterations=...)
+    s.outlines()                       # plain polylines by kind, each point with its normal
+
+Initialisation polygonises the model, fills the blackboard and processes the polygon
+edges into approximate feature points. Each system iteration the manager assigns the
+highest-priority tasks to free agents, every busy agent performs one action (a seed
+refinement, a trace step, an exploration step), reports, and the blackboard and the
+priorities of the touched neighbourhoods are updated. Iterations count from zero after
+initialisation, as in the paper.
+"""
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..blackboard.board import FEATURE_KINDS, KIND_ID, from_mesh
+from ..blackboard.edges import process_edges
+from ..blackboard.polygonise import polygonise
+from ..model import Evaluator
+from ..model.curvature import curvature
+from . import explore, manager
+from .stitch import stitch
+from .surface import Surface
+from .tracer import refine_seeds, trace_step
+
+REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
+
+
+@dataclass
+class Settings:
+    resolution: int = 20               # grid cells along the longest side (8..128)
+    agents: int = 10
+    lod: float = 0.5                   # user level of detail, 0..1
+    step: float = 0.3                  # trace step, in voxel sizes
+    tolerance: float = 1e-8            # outline location, as a fraction of the model's size
+    crease_angle: float = float(np.radians(35.0))
+    kinds: tuple = FEATURE_KINDS
+    explore_steps: int = 16
+    max_outline_steps: int = 20000
+    seed: int = 0
+
+    def check(self):
+        if not (isinstance(self.resolution, (int, np.integer)) and 8 <= self.resolution <= 128):
+            raise ValueError(f"resolution must be a whole number from 8 to 128, got {self.resolution!r}")
+        if not (isinstance(self.agents, (int, np.integer)) and 1 <= self.agents <= 10000):
+            raise ValueError(f"agents must be a whole number from 1 to 10000, got {self.agents!r}")
+        for name, lo, hi in (("lod", 0, 1), ("step", 0.01, 2), ("tolerance", 1e-12, 1e-2),
+                             ("crease_angle", 0.01, 3.1)):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and np.isfinite(v) and lo <= v <= hi):
+                raise ValueError(f"{name} must be a number from {lo} to {hi}, got {v!r}")
+        bad = [k for k in self.kinds if k not in FEATURE_KINDS]
+        if bad or not self.kinds:
+            raise ValueError(f"kinds must be some of {', '.join(FEATURE_KINDS)}, got {self.kinds!r}")
+
+
+@dataclass
+class Outline:
+    kind: str
+    points: np.ndarray
+    normals: np.ndarray
+    closed: bool
+
+    @property
+    def length(self):
+        p = np.vstack([self.points, self.points[:1]]) if self.closed else self.points
+        return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+
+
+@dataclass
+class _Trace:
+    kind: int
+    agents: tuple
+    p: np.ndarray
+    t: np.ndarray
+    ref: np.ndarray
+    start: np.ndarray
+    start_t: np.ndarray
+    start_ref: np.ndarray
+    fwd: list = field(default_factory=list)
+    fwd_n: list = field(default_factory=list)
+    bwd: list = field(default_factory=list)
+    bwd_n: list = field(default_factory=list)
+    phase: str = "fwd"
+    closed: bool = False
+    id: int = -1
+
+
+class Session:
+    def __init__(self, model, view, settings=None):
+        self.settings = settings or Settings()
+        self.settings.check()
+        self.ev = model if isinstance(model, Evaluator) else Evaluator(model)
+        self.view = view
+        self.surface = Surface(self.ev, view)
+        self.rng = np.random.default_rng(self.settings.seed)
+        t0 = time.perf_counter()
+        self.mesh = polygonise(self.ev, int(self.settings.resolution))
+        self.bb, curv = from_mesh(self.mesh, self.ev, lambda P, g: curvature(self.ev, P, g))
+        normals = curv["normal"]
+        feats = process_edges(self.mesh, normals, curv["mean"], view, self.settings.crease_angle)
+        for kind in self.settings.kinds:
+            pts, a, b = feats[kind]
+            self.bb.add_features(pts, a, b, kind)
+        self.vertex_normals = normals
+        self.vertex_curvature = curv
+        self.h = self.bb.h
+        self.step_len = self.settings.step * self.h
+        self.tol = self.settings.tolerance * self.ev.scale
+        self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), self.settings.lod)["priority"]
+        self.init_seconds = time.perf_counter() - t0
+        self.iteration = 0
+        self.free = list(range(self.settings.agents))
+        self.traces = []            # active tracing tasks
+        self.explorers = []         # active exploration tasks
+        self.explore_queue = []     # voxel rows waiting for an explorer
+        self.explored = set()
+        self.done_outlines = []
+        self.traced = {k: {} for k in range(len(FEATURE_KINDS))}   # cell -> list of outline ids
+        self.requests = []
+        self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
+
+    # --- requests (Table 1) -----------------------------------------------------------
+    def request(self, kind, region=None):
+        if kind not in REQUESTS:
+            raise ValueError(f"unknown request {kind!r}; one of {', '.join(REQUESTS)}")
+        self.requests.append((kind, region))
+        if kind == "FIND_FEATURES":
+            self._queue_exploration(region, all_surface=True)
+        elif kind == "OUTLINES" and region is not None:
+            self._queue_exploration(region, all_surface=False)
+
+    def _queue_exploration(self, region, all_surface):
+        v = self.bb.vox
+        rows = np.flatnonzero(v["surface"][:v.n])
+        if region is not None:
+            centres = self.bb.lo + (v["ijk"][rows] + 0.5) * self.h
+            rows = rows[region.contains(centres)]
+        if not all_surface:
+            rows = rows[self.priority[rows] > np.median(self.priority[rows])] if len(rows) else rows
+        order = rows[np.argsort(-self.priority[rows], kind="stable")]
+        self.explore_queue.extend(int(r) for r in order if int(r) not in self.explored)
+
+    def _in_regions(self, P, kind="OUTLINES"):
+        regions = [r for k, r in self.requests if k == kind]
+        if not regions:
+            return np.zeros(len(P), bool)
+        if any(r is None for r in regions):
+            return np.ones(len(P), bool)
+        return np.any([r.contains(P) for r in regions], axis=0)
+
+    # --- the system iteration ---------------------------------------------------------
+    @property
+    def tasks_left(self):
+        return len(self._open_seeds()) + len(self.explore_queue) + len(self.traces) + len(self.explorers)
+
+    @property
+    def done(self):
+        return self.tasks_left == 0
+
+    def _open_seeds(self):
+        ids = self.bb.open_features()
+        if len(ids) == 0:
+            return ids
+        kinds = self.bb.feat["kind"][ids]
+        ok = np.isin(kinds, [KIND_ID[k] for k in self.settings.kinds])
+        ids = ids[ok]
+        return ids[self._in_regions(self.bb.feat["pos"][ids])]
+
+    def step(self):
+        """One system iteration; returns False when there was nothing left to do."""
+        if self.done:
+            return False
+        self._assign()
+        touched = []
+        touched += self._step_traces()
+        touched += explore.step(self)
+        if touched:
+            rows = np.unique(np.concatenate(touched))
+            nb = self.bb.neighbours(rows)
+            around = np.unique(nb[nb >= 0])
+            if len(self.priority) < self.bb.vox.n:
+                self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
+            self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
+        self.iteration += 1
+        return True
+
+    def run(self, seconds=None, iterations=None):
+        t0 = time.perf_counter()
+        n = 0
+        while not self.done:
+            if iterations is not None and n >= iterations:
+                break
+            if seconds is not None and time.perf_counter() - t0 >= seconds:
+                break
+            self.step()
+            n += 1
+        return n
+
+    def _assign(self):
+        seeds = self._open_seeds()
+        if len(seeds) and len(self.free):
+            pr = self.priority[self.bb.feat["voxel"][seeds]]
+            seeds = seeds[np.argsort(-pr, kind="stable")]
+            take = []
+            budget = len(self.free)
+            for s in seeds:
+                need = 2 if self.bb.feat["kind"][s] == KIND_ID["crease"] else 1
+                if need > budget:
+                    break
+                budget -= need
+                take.append(s)
+            if take:
+                self._start_traces(np.array(take))
+        while self.free and self.explore_queue:
+            explore.start(self, self.explore_queue.pop(0))
+
+    def _start_traces(self, ids):
+        f = self.bb.feat
+        f.cols["used"][ids] = True
+        kinds = f["kind"][ids].astype(np.int64)
+        X, n, T, ref, A, B, valid = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
+                                                 self.settings.crease_angle)
+        for i in np.flatnonzero(valid):
+            k = int(kinds[i])
+            if self._near_traced(k, X[i], 1.5 * self.step_len, None):
+                continue
+            need = 2 if k == KIND_ID["crease"] else 1
+            agents = tuple(self.free.pop() for _ in range(need))
+            tr = _Trace(kind=k, agents=agents, p=X[i], t=T[i], ref=ref[i], start=X[i], start_t=T[i],
+                        start_ref=ref[i], id=len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration)
+            tr.fwd.append(X[i])
+            tr.fwd_n.append(n[i])
+            self._remember(k, X[i], tr.id)
+            self.traces.append(tr)
+
+    def _step_traces(self):
+        if not self.traces:
+            return []
+        trs = self.traces
+        kinds = np.array([t.kind for t in trs])
+        P = np.array([t.p for t in trs])
+        T = np.array([t.t for t in trs])
+        ref = np.array([t.ref for t in trs])
+        h = np.full(len(trs), self.step_len)
+        X, n, Tn, refn, A, B, ok = trace_step(self.surface, kinds, P, T, ref, h, self.tol)
+        f, g = self.ev.field_grad(X)
+        rows = self.bb.add_samples(X, f, g, "path")
+        still = []
+        for i, tr in enumerate(trs):
+            end = None
+            if not ok[i]:
+                end = "lost"
+            else:
+                mine = tr.fwd if tr.phase == "fwd" else tr.bwd
+                other_end = tr.start if tr.phase == "fwd" else tr.fwd[-1]
+                steps = len(tr.fwd) + len(tr.bwd)
+                if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * self.step_len:
+                    end = "closed"
+                elif self._near_traced(tr.kind, X[i], 1.5 * self.step_len, tr.id):
+                    end = "joined"             # another outline is already here: stop short
+                elif steps >= self.settings.max_outline_steps:
+                    end = "limit"
+                else:
+                    mine.append(X[i])
+                    (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
+                    self._remember(tr.kind, X[i], tr.id)
+                    tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
+                    self.bb.consume_near(X[i:i + 1], FEATURE_KINDS[tr.kind], 0.75 * self.h)
+            if end is None:
+                still.append(tr)
+            elif end == "closed" and tr.phase == "fwd":
+                tr.closed = True
+                self._finish(tr)
+            elif end == "closed":
+                tr.closed = True
+                self._finish(tr)
+            elif tr.phase == "fwd" and not self._near_traced(tr.kind, tr.start, 1.5 * self.step_len, tr.id):
+                tr.phase = "bwd"           # trace the other way from the seed
+                tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
+                still.append(tr)
+            else:
+                self._finish(tr)
+        self.traces = still
+        return [rows]
+
+    def _finish(self, tr):
+        pts = tr.bwd[::-1] + tr.fwd
+        nrm = tr.bwd_n[::-1] + tr.fwd_n
+        self.free.extend(tr.agents)
+        if len(pts) >= 2:
+            self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed))
+
+    def _cell(self, p):
+        return tuple(np.floor(p / self.step_len).astype(int))
+
+    def _remember(self, kind, p, tid):
+        self.traced[kind].setdefault(self._cell(p), []).append((tid, p))
+
+    def _near_traced(self, kind, p, radius, own):
+        c = self._cell(p)
+        table = self.traced[kind]
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    for tid, q in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
+                        if tid != own and np.linalg.norm(q - p) < radius:
+                            return True
+        return False
+
+    # --- results ----------------------------------------------------------------------
+    def outlines(self, include_active=True):
+        """Feature outlines found so far, fragments stitched into whole polylines."""
+        out = list(self.done_outlines)
+        if include_active:
+            for tr in self.traces:
+                pts = tr.bwd[::-1] + tr.fwd
+                if len(pts) >= 2:
+                    out.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts),
+                                       np.array(tr.bwd_n[::-1] + tr.fwd_n), False))
+        return stitch(out, 2.5 * self.step_len, Outline)
+
+    def progress(self):
+        return {"iterations": self.iteration, "tasks_left": self.tasks_left,
+                "outline_length": sum(o.length for o in self.outlines()),
+                "outlines": len(self.outlines()), "busy_agents": self.settings.agents - len(self.free)}

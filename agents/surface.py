@@ -1,0 +1,101 @@
+"""Batched surface queries shared by all agents: projection onto the iso-surface,
+normals, and the signed quantities whose zero sets are the feature outlines.
+
+Kinds (the order of blackboard.board.FEATURE_KINDS): 0 silhouette, where the outward
+normal is perpendicular to the direction to the eye; 1 crease, where the normal jumps
+(signed against the two side normals of the bracket: ``ref = n_a - n_b``); 2 curvature
+sign, where the mean curvature changes sign.
+"""
+import numpy as np
+
+from ..model.curvature import curvature
+
+SIL, CREASE, CURV = 0, 1, 2
+
+
+class Surface:
+    def __init__(self, ev, view):
+        self.ev = ev
+        self.iso = ev.iso
+        self.view = view
+        self.scale = ev.scale
+
+    def field_grad(self, P):
+        return self.ev.field_grad(P)
+
+    def project(self, P, steps=6, max_step=None):
+        """Damped Newton steps along the gradient onto f = iso. Returns P, f, g."""
+        P = np.array(P, float)
+        if len(P) == 0:
+            return P, np.zeros(0), np.zeros((0, 3))
+        max_step = max_step if max_step is not None else 0.05 * self.scale
+        f, g = self.ev.field_grad(P)
+        for _ in range(steps):
+            gg = np.einsum("ij,ij->i", g, g)
+            ok = (gg > 1e-300) & (np.abs(f - self.iso) > 1e-15)
+            if not ok.any():
+                break
+            d = np.zeros_like(P)
+            d[ok] = -((f[ok] - self.iso) / gg[ok])[:, None] * g[ok]
+            L = np.linalg.norm(d, axis=1)
+            d *= np.where(L > max_step, max_step / np.maximum(L, 1e-300), 1.0)[:, None]
+            Q = P + d
+            fq, gq = self.ev.field_grad(Q)
+            better = np.abs(fq - self.iso) <= np.abs(f - self.iso)
+            # where a full step overshoots, take half of it once
+            worse = ~better & ok
+            if worse.any():
+                Q2 = P[worse] + 0.5 * d[worse]
+                f2, g2 = self.ev.field_grad(Q2)
+                Q[worse], fq[worse], gq[worse] = Q2, f2, g2
+                better[worse] = np.abs(f2 - self.iso) <= np.abs(f[worse] - self.iso)
+            P[better], f[better], g[better] = Q[better], fq[better], gq[better]
+        return P, f, g
+
+    @staticmethod
+    def normals(g):
+        n = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+        return n
+
+    def signs(self, kinds, P, g, ref):
+        """The signed quantity of each point's feature kind."""
+        n = self.normals(g)
+        s = np.empty(len(P))
+        m = kinds == SIL
+        if m.any():
+            s[m] = np.einsum("ij,ij->i", n[m], self.view.towards_eye(P[m]))
+        m = kinds == CREASE
+        if m.any():
+            s[m] = np.einsum("ij,ij->i", n[m], ref[m])
+        m = kinds == CURV
+        if m.any():
+            s[m] = curvature(self.ev, P[m], g[m])["mean"]
+        return s
+
+    def bisect(self, kinds, A, B, ref, tol, iters=48):
+        """Zero crossings between bracket ends A, B (on the surface, opposite signs):
+        bisection with every midpoint projected onto the surface. Returns the crossing
+        (projected), the final bracket ends and their normals, and whether each bracket
+        really held a sign change."""
+        A, fA, gA = self.project(A)
+        B, fB, gB = self.project(B)
+        sA = self.signs(kinds, A, gA, ref)
+        sB = self.signs(kinds, B, gB, ref)
+        valid = (sA > 0) != (sB > 0)
+        A, B, gA, gB = A.copy(), B.copy(), gA.copy(), gB.copy()
+        live = np.flatnonzero(valid)
+        for _ in range(iters):
+            if len(live) == 0:
+                break
+            w = np.linalg.norm(A[live] - B[live], axis=1)
+            live = live[w > tol]
+            if len(live) == 0:
+                break
+            M, fM, gM = self.project(0.5 * (A[live] + B[live]), steps=3)
+            sM = self.signs(kinds[live], M, gM, ref[live])
+            sideA = (sM > 0) == (sA[live] > 0)
+            ia, ib = live[sideA], live[~sideA]
+            A[ia], gA[ia] = M[sideA], gM[sideA]
+            B[ib], gB[ib] = M[~sideA], gM[~sideA]
+        X, fX, gX = self.project(0.5 * (A + B), steps=4)
+        return X, gX, A, B, self.normals(gA), self.normals(gB), valid

@@ -1,0 +1,74 @@
+"""Tracing feature outlines with a predictor-corrector step (paper section 6), batched
+over every tracing task: one step per task per system iteration.
+
+Predictor: move along the current tangent by the step h. Corrector: project onto the
+surface, bracket the outline across the tangent (in the tangent plane, on both sides),
+and bisect the bracket to the outline (every bisection point is projected onto the
+surface). A crease task is a team of two agents, one on each side of the crease (the
+bracket ends): dual tracking. An outline ends when it closes on its start, meets an
+outline of the same kind already traced, or is lost (no bracket); an open outline is
+then traced backwards from its seed.
+"""
+import numpy as np
+
+from .surface import CREASE
+
+
+def unit(v):
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
+
+
+def refine_seeds(surface, kinds, a, b, tol, crease_angle):
+    """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
+    tangent and a validity flag (a false alarm, or a smooth bend taken for a crease,
+    is not valid)."""
+    a, _, ga = surface.project(a)
+    b, _, gb = surface.project(b)
+    na, nb = surface.normals(ga), surface.normals(gb)
+    ref = na - nb
+    across = b - a                   # the bracket before bisection shrinks it to nothing
+    X, gX, A, B, nA, nB, valid = surface.bisect(kinds, a, b, ref, tol)
+    cre = kinds == CREASE
+    if cre.any():
+        ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA, nB), -1, 1))
+        valid &= ~cre | (ang > 0.5 * crease_angle)
+    n = surface.normals(gX)
+    tangent = unit(np.cross(n, across))
+    tangent = np.where(cre[:, None], unit(np.cross(nA, nB)), tangent)
+    bad = ~np.all(np.isfinite(tangent), axis=1) | (np.linalg.norm(tangent, axis=1) < 0.5)
+    valid &= ~bad
+    return X, n, tangent, nA - nB, A, B, valid
+
+
+def trace_step(surface, kinds, P, T, ref, h, tol):
+    """One predictor-corrector step for each task. Returns new points, normals,
+    tangents, refs, the team's side positions (A, B) and an ok flag (False: lost)."""
+    Q, _, gQ = surface.project(P + h[:, None] * T)
+    n = surface.normals(gQ)
+    W = unit(np.cross(n, T))
+    ok = np.ones(len(P), bool)
+    found = np.zeros(len(P), bool)
+    X = Q.copy()
+    gX = gQ.copy()
+    A_out, B_out = Q.copy(), Q.copy()
+    nA_out, nB_out = n.copy(), n.copy()
+    todo = np.arange(len(P))
+    for width in (0.5, 1.0, 2.0):
+        if len(todo) == 0:
+            break
+        d = (width * h[todo])[:, None] * W[todo]
+        x, gx, A, B, nA, nB, valid = surface.bisect(kinds[todo], Q[todo] + d, Q[todo] - d, ref[todo], tol)
+        got = todo[valid]
+        X[got], gX[got] = x[valid], gx[valid]
+        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[valid], B[valid], nA[valid], nB[valid]
+        found[got] = True
+        todo = todo[~valid]
+    ok &= found
+    step = X - P
+    # a step that went backwards or jumped far is a lost trace, not progress
+    adv = np.einsum("ij,ij->i", step, T)
+    ok &= (adv > 0.2 * h) & (np.linalg.norm(step, axis=1) < 2.5 * h)
+    Tn = unit(step)
+    cre = kinds == CREASE
+    ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
+    return X, surface.normals(gX), Tn, ref_new, A_out, B_out, ok

@@ -1,0 +1,221 @@
+"""The blackboard: a voxel hash of surface voxels (and their neighbours) with the
+samples agents and the polygonisation put there, per-voxel statistics, and feature
+points (paper section 4).
+
+Voxels live in a dict keyed by the integer triple (the voxel's back-bottom-left
+corner index), mapping to a row of growable arrays; samples are rows of growable
+arrays too, so statistics are vector operations (bincount), not Python loops.
+"""
+import numpy as np
+
+from .polygonise import Mesh
+
+SAMPLE_KINDS = {"corner": 0, "vertex": 1, "path": 2}
+FEATURE_KINDS = ("silhouette", "crease", "curvature")
+KIND_ID = {k: i for i, k in enumerate(FEATURE_KINDS)}
+
+
+class Grow:
+    """A set of growable column arrays sharing one row count."""
+
+    def __init__(self, **cols):
+        self.n = 0
+        self.cols = {}
+        for name, (shape, dtype, fill) in cols.items():
+            self.cols[name] = np.full((16, *shape), fill, dtype)
+        self.fill = {name: fill for name, (_, _, fill) in cols.items()}
+
+    def add(self, count, **values):
+        start = self.n
+        end = start + count
+        cap = len(next(iter(self.cols.values())))
+        if end > cap:
+            new = max(end, 2 * cap)
+            for name, a in self.cols.items():
+                b = np.full((new, *a.shape[1:]), self.fill[name], a.dtype)
+                b[:cap] = a
+                self.cols[name] = b
+        for name, v in values.items():
+            self.cols[name][start:end] = v
+        self.n = end
+        return np.arange(start, end)
+
+    def __getitem__(self, name):
+        return self.cols[name][:self.n]
+
+    def __len__(self):
+        return self.n
+
+
+class Blackboard:
+    def __init__(self, grid, iso):
+        self.grid = grid
+        self.iso = iso
+        self.h = float(grid.cell[0])
+        self.lo = grid.lo.copy()
+        self.index = {}                       # (i, j, k) -> voxel row
+        self.vox = Grow(ijk=((3,), np.int64, 0), corners_in=((), np.int8, 0), theta=((), float, 0.0),
+                        surface=((), bool, False), features=((), np.int64, 0), samples=((), np.int64, 0),
+                        sum=((), float, 0.0), sumsq=((), float, 0.0), fmin=((), float, np.inf),
+                        fmax=((), float, -np.inf), path_steps=((), np.int64, 0))
+        self.smp = Grow(pos=((3,), float, 0.0), f=((), float, 0.0), grad=((3,), float, 0.0),
+                        mean=((), float, np.nan), gauss=((), float, np.nan), dir1=((3,), float, 0.0),
+                        voxel=((), np.int64, -1), kind=((), np.int8, 0))
+        self.feat = Grow(pos=((3,), float, 0.0), a=((3,), float, 0.0), b=((3,), float, 0.0),
+                         kind=((), np.int8, 0), voxel=((), np.int64, -1), used=((), bool, False))
+
+    # --- voxels ---------------------------------------------------------------------
+    def voxel_of(self, P):
+        return np.floor((np.asarray(P, float) - self.lo) / self.h).astype(np.int64)
+
+    def voxel_rows(self, ijk, create=True):
+        """Rows of voxels (k,3) int; missing ones are added when create (else -1)."""
+        ijk = np.atleast_2d(ijk)
+        rows = np.empty(len(ijk), np.int64)
+        new_keys = []
+        for i, key in enumerate(map(tuple, ijk.tolist())):
+            r = self.index.get(key)
+            if r is None:
+                if not create:
+                    rows[i] = -1
+                    continue
+                r = self.vox.n + len(new_keys)
+                self.index[key] = r
+                new_keys.append(key)
+            rows[i] = r
+        if new_keys:
+            self.vox.add(len(new_keys), ijk=np.array(new_keys, np.int64))
+            self._corner_info(np.arange(self.vox.n - len(new_keys), self.vox.n))
+        return rows
+
+    def _corner_info(self, rows):
+        """Corner counts and the max angle between corner gradients (from the grid)."""
+        g = self.grid
+        f = g.field
+        ijk = self.vox["ijk"][rows]
+        res = np.array(g.res)
+        inside_grid = np.all((ijk >= 0) & (ijk < res), axis=1)
+        cnt = np.zeros(len(rows), np.int8)
+        for dx in (0, 1):
+            for dy in (0, 1):
+                for dz in (0, 1):
+                    c = ijk + (dx, dy, dz)
+                    ok = inside_grid
+                    vals = np.zeros(len(rows))
+                    vals[ok] = f[c[ok, 0], c[ok, 1], c[ok, 2]]
+                    cnt += (vals >= self.iso).astype(np.int8)
+        self.vox.cols["corners_in"][rows] = cnt
+
+    def set_theta(self, rows, theta):
+        self.vox.cols["theta"][rows] = theta
+
+    def neighbours(self, rows):
+        """(k, 27) rows of the 3x3x3 neighbourhood of each voxel (-1 where absent)."""
+        ijk = self.vox["ijk"][rows]
+        out = np.full((len(rows), 27), -1, np.int64)
+        j = 0
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for dz in (-1, 0, 1):
+                    keys = map(tuple, (ijk + (dx, dy, dz)).tolist())
+                    out[:, j] = [self.index.get(k, -1) for k in keys]
+                    j += 1
+        return out
+
+    # --- samples --------------------------------------------------------------------
+    def add_samples(self, pos, f, grad, kind, curv=None):
+        pos = np.atleast_2d(pos)
+        rows = self.voxel_rows(self.voxel_of(pos))
+        vals = dict(pos=pos, f=f, grad=grad, voxel=rows, kind=SAMPLE_KINDS[kind])
+        if curv is not None:
+            vals.update(mean=curv["mean"], gauss=curv["gauss"], dir1=curv["dir1"])
+        self.smp.add(len(pos), **vals)
+        v = self.vox.cols
+        np.add.at(v["samples"], rows, 1)
+        np.add.at(v["sum"], rows, f)
+        np.add.at(v["sumsq"], rows, f * f)
+        np.minimum.at(v["fmin"], rows, f)
+        np.maximum.at(v["fmax"], rows, f)
+        on = np.abs(np.asarray(f) - self.iso) < 1e-3
+        v["surface"][rows[on]] = True
+        if kind == "path":
+            np.add.at(v["path_steps"], rows, 1)
+        return rows
+
+    def stats(self, rows=None):
+        """Per-voxel sample statistics: count, average, range, standard deviation."""
+        v = self.vox
+        rows = np.arange(v.n) if rows is None else rows
+        n = v["samples"][rows].astype(float)
+        safe = np.maximum(n, 1)
+        avg = v["sum"][rows] / safe
+        var = np.maximum(v["sumsq"][rows] / safe - avg * avg, 0.0)
+        rng = np.where(n > 0, v["fmax"][rows] - v["fmin"][rows], 0.0)
+        return {"count": n, "average": np.where(n > 0, avg, np.nan), "range": rng,
+                "std": np.where(n > 0, np.sqrt(var), np.nan)}
+
+    # --- feature points -------------------------------------------------------------
+    def add_features(self, pos, a, b, kind):
+        pos = np.atleast_2d(pos)
+        if len(pos) == 0:
+            return np.zeros(0, np.int64)
+        rows = self.voxel_rows(self.voxel_of(pos))
+        ids = self.feat.add(len(pos), pos=pos, a=a, b=b, kind=KIND_ID[kind], voxel=rows)
+        np.add.at(self.vox.cols["features"], rows, 1)
+        return ids
+
+    def open_features(self, kind=None):
+        ok = ~self.feat["used"]
+        if kind is not None:
+            ok &= self.feat["kind"] == KIND_ID[kind]
+        return np.flatnonzero(ok)
+
+    def consume_near(self, P, kind, radius):
+        """Mark open feature points of this kind within radius of any of P as used."""
+        ids = self.open_features(kind)
+        if len(ids) == 0 or len(P) == 0:
+            return 0
+        fp = self.feat["pos"][ids]
+        P = np.atleast_2d(P)
+        hit = np.zeros(len(ids), bool)
+        for a in range(0, len(P), 256):
+            d2 = ((fp[:, None, :] - P[None, a:a + 256, :]) ** 2).sum(-1)
+            hit |= (d2 < radius * radius).any(1)
+        self.feat.cols["used"][ids[hit]] = True
+        return int(hit.sum())
+
+
+def from_mesh(mesh: Mesh, ev, curvature_fn):
+    """A blackboard initialised from the rough polygonisation: surface voxels and their
+    neighbours, corner samples of surface voxels, and vertex samples with curvature."""
+    bb = Blackboard(mesh.grid, ev.iso)
+    cells = mesh.cells
+    # surface voxels and their 26 neighbours
+    offs = np.array([(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)])
+    around = np.unique((cells[:, None, :] + offs[None]).reshape(-1, 3), axis=0)
+    bb.voxel_rows(around)
+    srows = bb.voxel_rows(cells)
+    bb.vox.cols["surface"][srows] = True
+    # corner gradients of surface voxels: the max angle between them (theta_i)
+    corner_ijk = np.unique((cells[:, None, :] + np.array([(x, y, z) for x in (0, 1) for y in (0, 1)
+                                                           for z in (0, 1)])[None]).reshape(-1, 3), axis=0)
+    cpos = mesh.grid.lo + corner_ijk * mesh.grid.cell
+    cf, cg = ev.field_grad(cpos)
+    gl = {k: i for i, k in enumerate(map(tuple, corner_ijk.tolist()))}
+    unit = cg / np.maximum(np.linalg.norm(cg, axis=1, keepdims=True), 1e-300)
+    zero = np.linalg.norm(cg, axis=1) == 0
+    theta = np.zeros(len(cells))
+    idx = np.array([[gl[(int(c[0]) + x, int(c[1]) + y, int(c[2]) + z)] for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+                    for c in cells]) if len(cells) else np.zeros((0, 8), int)
+    for i in range(8):
+        for j in range(i + 1, 8):
+            dot = np.einsum("ij,ij->i", unit[idx[:, i]], unit[idx[:, j]])
+            ang = np.arccos(np.clip(dot, -1, 1))
+            ang[zero[idx[:, i]] | zero[idx[:, j]]] = 0.0
+            theta = np.maximum(theta, ang)
+    bb.set_theta(srows, theta)
+    bb.add_samples(cpos, cf, cg, "corner")
+    vf, vg = ev.field_grad(mesh.vertices)
+    curv = curvature_fn(mesh.vertices, vg)
+    bb.add_samples(mesh.vertices, vf, vg, "vertex", curv)
+    return bb, curv
