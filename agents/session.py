@@ -24,6 +24,7 @@ from ..model import Evaluator
 from ..model.curvature import curvature
 from . import explore, manager
 from .stitch import stitch
+from .stitch import stitch
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
 
@@ -38,7 +39,7 @@ class Settings:
     step: float = 0.3                  # trace step, in voxel sizes
     tolerance: float = 1e-8            # outline location, as a fraction of the model's size
     crease_angle: float = float(np.radians(35.0))
-    kinds: tuple = FEATURE_KINDS
+    kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines
     explore_steps: int = 16
     max_outline_steps: int = 20000
     seed: int = 0
@@ -247,7 +248,8 @@ class Session:
         T = np.array([t.t for t in trs])
         ref = np.array([t.ref for t in trs])
         h = np.full(len(trs), self.step_len)
-        X, n, Tn, refn, A, B, ok = trace_step(self.surface, kinds, P, T, ref, h, self.tol)
+        X, n, Tn, refn, A, B, ok = trace_step(self.surface, kinds, P, T, ref, h, self.tol,
+                                              self.settings.crease_angle)
         f, g = self.ev.field_grad(X)
         rows = self.bb.add_samples(X, f, g, "path")
         still = []

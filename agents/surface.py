@@ -72,17 +72,22 @@ class Surface:
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
         return s
 
-    def bisect(self, kinds, A, B, ref, tol, iters=48):
-        """Zero crossings between bracket ends A, B (on the surface, opposite signs):
-        bisection with every midpoint projected onto the surface. Returns the crossing
-        (projected), the final bracket ends and their normals, and whether each bracket
-        really held a sign change."""
+    def bisect(self, kinds, A, B, ref, tol, iters=60):
+        """Zero crossings between bracket ends A, B (on the surface, opposite signs).
+
+        Regula falsi with the Illinois modification on the segment A-B, every trial
+        point projected onto the surface; creases (where the sign jumps rather than
+        crosses zero) are bisected. Returns the crossing (the final bracket end on the
+        first end's side, on the surface to rounding), its gradient, the final bracket
+        ends and their normals, and whether each bracket held a sign change."""
         A, fA, gA = self.project(A)
         B, fB, gB = self.project(B)
         sA = self.signs(kinds, A, gA, ref)
         sB = self.signs(kinds, B, gB, ref)
         valid = (sA > 0) != (sB > 0)
         A, B, gA, gB = A.copy(), B.copy(), gA.copy(), gB.copy()
+        jump = kinds == CREASE
+        last = np.zeros(len(A), np.int8)        # which end moved last (Illinois)
         live = np.flatnonzero(valid)
         for _ in range(iters):
             if len(live) == 0:
@@ -91,11 +96,17 @@ class Surface:
             live = live[w > tol]
             if len(live) == 0:
                 break
-            M, fM, gM = self.project(0.5 * (A[live] + B[live]), steps=3)
+            a, b = sA[live], sB[live]
+            u = np.where(jump[live], 0.5, a / np.where(a - b == 0, 1.0, a - b))
+            u = np.clip(u, 0.02, 0.98)
+            M, fM, gM = self.project(A[live] + u[:, None] * (B[live] - A[live]), steps=4)
             sM = self.signs(kinds[live], M, gM, ref[live])
             sideA = (sM > 0) == (sA[live] > 0)
             ia, ib = live[sideA], live[~sideA]
-            A[ia], gA[ia] = M[sideA], gM[sideA]
-            B[ib], gB[ib] = M[~sideA], gM[~sideA]
-        X, fX, gX = self.project(0.5 * (A + B), steps=4)
-        return X, gX, A, B, self.normals(gA), self.normals(gB), valid
+            A[ia], gA[ia], sA[ia] = M[sideA], gM[sideA], sM[sideA]
+            B[ib], gB[ib], sB[ib] = M[~sideA], gM[~sideA], sM[~sideA]
+            # Illinois: halve the stale end's value when the same end moves twice
+            sB[ia[last[ia] == 1]] *= 0.5
+            sA[ib[last[ib] == 2]] *= 0.5
+            last[ia], last[ib] = 1, 2
+        return A, gA, A, B, self.normals(gA), self.normals(gB), valid

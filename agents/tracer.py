@@ -18,6 +18,18 @@ def unit(v):
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
 
 
+def level_tangent(surface, kinds, X, n, ref, eps):
+    """The direction along which a signed quantity stays zero: n x (its surface gradient),
+    the gradient estimated from central differences on the surface."""
+    e1 = unit(np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])))
+    e2 = np.cross(n, e1)
+    pts = np.concatenate([X + eps * e1, X - eps * e1, X + eps * e2, X - eps * e2])
+    P, _, g = surface.project(pts)
+    s = surface.signs(np.concatenate([kinds] * 4), P, g, np.concatenate([ref] * 4)).reshape(4, -1)
+    G = (s[0] - s[1])[:, None] * e1 + (s[2] - s[3])[:, None] * e2
+    return unit(np.cross(n, G))
+
+
 def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
     tangent and a validity flag (a false alarm, or a smooth bend taken for a crease,
@@ -26,21 +38,24 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     b, _, gb = surface.project(b)
     na, nb = surface.normals(ga), surface.normals(gb)
     ref = na - nb
-    across = b - a                   # the bracket before bisection shrinks it to nothing
+    eps = 0.25 * float(np.linalg.norm(b - a, axis=1).mean()) if len(a) else 1.0
     X, gX, A, B, nA, nB, valid = surface.bisect(kinds, a, b, ref, tol)
     cre = kinds == CREASE
-    if cre.any():
-        ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA, nB), -1, 1))
-        valid &= ~cre | (ang > 0.5 * crease_angle)
+    ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA, nB), -1, 1))
+    # a crease must be a jump of the normal; a silhouette or curvature-sign crossing must
+    # not be one (n.v and curvature jump across a crease too, and creases draw those)
+    valid &= np.where(cre, ang > 0.5 * crease_angle, ang < 0.5 * crease_angle)
     n = surface.normals(gX)
-    tangent = unit(np.cross(n, across))
+    tangent = level_tangent(surface, kinds, X, n, nA - nB, eps)
     tangent = np.where(cre[:, None], unit(np.cross(nA, nB)), tangent)
     bad = ~np.all(np.isfinite(tangent), axis=1) | (np.linalg.norm(tangent, axis=1) < 0.5)
     valid &= ~bad
+    fX, _ = surface.field_grad(X)
+    valid &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)
     return X, n, tangent, nA - nB, A, B, valid
 
 
-def trace_step(surface, kinds, P, T, ref, h, tol):
+def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     """One predictor-corrector step for each task. Returns new points, normals,
     tangents, refs, the team's side positions (A, B) and an ok flag (False: lost)."""
     Q, _, gQ = surface.project(P + h[:, None] * T)
@@ -64,6 +79,11 @@ def trace_step(surface, kinds, P, T, ref, h, tol):
         found[got] = True
         todo = todo[~valid]
     ok &= found
+    fX, _ = surface.field_grad(X)
+    ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
+    ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA_out, nB_out), -1, 1))
+    jumped = ang > 0.5 * crease_angle
+    ok &= np.where(kinds == CREASE, jumped, ~jumped)   # a silhouette ends where it meets a crease
     step = X - P
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
