@@ -88,6 +88,7 @@ class _Trace:
     bwd_n: list = field(default_factory=list)
     phase: str = "fwd"
     closed: bool = False
+    h: float = 0.0              # current step: halved after a failed step, regrown after success
     id: int = -1
 
 
@@ -228,7 +229,7 @@ class Session:
                                                  self.settings.crease_angle)
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
-            if self._near_traced(k, X[i], 1.5 * self.step_len, None):
+            if self._near_traced(k, X[i], 1.0 * self.step_len, None):
                 continue
             need = 2 if k == KIND_ID["crease"] else 1
             agents = tuple(self.free.pop() for _ in range(need))
@@ -247,7 +248,9 @@ class Session:
         P = np.array([t.p for t in trs])
         T = np.array([t.t for t in trs])
         ref = np.array([t.ref for t in trs])
-        h = np.full(len(trs), self.step_len)
+        for t in trs:
+            t.h = t.h or self.step_len
+        h = np.array([t.h for t in trs])
         X, n, Tn, refn, A, B, ok = trace_step(self.surface, kinds, P, T, ref, h, self.tol,
                                               self.settings.crease_angle)
         f, g = self.ev.field_grad(X)
@@ -255,15 +258,19 @@ class Session:
         still = []
         for i, tr in enumerate(trs):
             end = None
+            if not ok[i] and tr.h > self.step_len / 16:
+                tr.h *= 0.5                    # retry with a shorter step next iteration
+                still.append(tr)
+                continue
             if not ok[i]:
                 end = "lost"
             else:
                 mine = tr.fwd if tr.phase == "fwd" else tr.bwd
-                other_end = tr.start if tr.phase == "fwd" else tr.fwd[-1]
+                other_end = tr.start if tr.phase == "fwd" or not tr.fwd else tr.fwd[-1]
                 steps = len(tr.fwd) + len(tr.bwd)
                 if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * self.step_len:
                     end = "closed"
-                elif self._near_traced(tr.kind, X[i], 1.5 * self.step_len, tr.id):
+                elif self._near_traced(tr.kind, X[i], 1.0 * self.step_len, tr.id):
                     end = "joined"             # another outline is already here: stop short
                 elif steps >= self.settings.max_outline_steps:
                     end = "limit"
@@ -272,6 +279,7 @@ class Session:
                     (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
                     self._remember(tr.kind, X[i], tr.id)
                     tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
+                    tr.h = min(self.step_len, 1.5 * tr.h)
                     self.bb.consume_near(X[i:i + 1], FEATURE_KINDS[tr.kind], 0.75 * self.h)
             if end is None:
                 still.append(tr)
@@ -281,9 +289,10 @@ class Session:
             elif end == "closed":
                 tr.closed = True
                 self._finish(tr)
-            elif tr.phase == "fwd" and not self._near_traced(tr.kind, tr.start, 1.5 * self.step_len, tr.id):
+            elif tr.phase == "fwd" and not self._near_traced(tr.kind, tr.start, 1.0 * self.step_len, tr.id):
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
+                tr.h = self.step_len
                 still.append(tr)
             else:
                 self._finish(tr)
@@ -294,7 +303,7 @@ class Session:
         pts = tr.bwd[::-1] + tr.fwd
         nrm = tr.bwd_n[::-1] + tr.fwd_n
         self.free.extend(tr.agents)
-        if len(pts) >= 2:
+        if pts:                    # even a single point: other traces stopped short of it
             self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed))
 
     def _cell(self, p):
@@ -321,7 +330,7 @@ class Session:
         if include_active:
             for tr in self.traces:
                 pts = tr.bwd[::-1] + tr.fwd
-                if len(pts) >= 2:
+                if pts:
                     out.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts),
                                        np.array(tr.bwd_n[::-1] + tr.fwd_n), False))
         return stitch(out, 2.5 * self.step_len, Outline)

@@ -1,43 +1,68 @@
-"""Stitch outline fragments traced by different agents into whole polylines.
+"""Join the points traced by different agents into whole polylines.
 
 Agents trace one curve from several seeds at once and stop where they meet another's
-trace, so a curve arrives in pieces; pieces of one kind whose ends lie within ``gap``
-are joined (reversing pieces as needed), and a polyline whose two ends meet is closed.
+trace, so a curve arrives in pieces that meet head to head, sometimes overlapping by a
+step. All points of one kind are pooled, points closer than a third of a step merged,
+and polylines are chained greedily: from a chain's end to the nearest unused point
+within ``link`` that continues forward (positive dot product with the current
+direction), then the same from the chain's other end. A chain whose ends meet is closed.
 """
 import numpy as np
 
 
-def stitch(outlines, gap, make):
-    """``outlines``: objects with kind, points, normals, closed; ``make(kind, P, N,
-    closed)`` builds a result."""
+def stitch(outlines, link, make):
     out = []
+    outlines = [o for o in outlines if len(o.points)]
     for kind in sorted({o.kind for o in outlines}):
-        pieces = [(o.points, o.normals) for o in outlines if o.kind == kind and not o.closed]
-        out += [make(kind, o.points, o.normals, True) for o in outlines if o.kind == kind and o.closed]
-        while pieces:
-            P, N = pieces.pop(0)
-            grown = True
-            while grown:
-                grown = False
-                best = None
-                for j, (Q, M) in enumerate(pieces):
-                    for flip_self, flip_other in ((False, False), (False, True), (True, False), (True, True)):
-                        a = P[0] if flip_self else P[-1]
-                        b = Q[-1] if flip_other else Q[0]
-                        d = np.linalg.norm(a - b)
-                        if d < gap and (best is None or d < best[0]):
-                            best = (d, j, flip_self, flip_other)
-                if best is not None:
-                    _, j, fs, fo = best
-                    Q, M = pieces.pop(j)
-                    if fs:
-                        P, N = P[::-1], N[::-1]
-                    if fo:
-                        Q, M = Q[::-1], M[::-1]
-                    P, N = np.vstack([P, Q]), np.vstack([N, M])
-                    grown = True
-            closed = len(P) > 3 and np.linalg.norm(P[0] - P[-1]) < gap
-            if closed:
-                P, N = P[:-1], N[:-1] if np.linalg.norm(P[0] - P[-1]) < 1e-12 else N[:-1]
-            out.append(make(kind, P, N, closed))
+        mine = [o for o in outlines if o.kind == kind]
+        P = np.concatenate([o.points for o in mine])
+        N = np.concatenate([o.normals for o in mine])
+        P, N = _merge_close(P, N, link / 8.0)
+        used = np.zeros(len(P), bool)
+        while not used.all():
+            start = int(np.flatnonzero(~used)[0])
+            used[start] = True
+            fwd = _walk(P, used, [start], link)
+            bwd = _walk(P, used, [start] + fwd[:1], link, reverse_seed=True)
+            idx = bwd[::-1] + [start] + fwd
+            if len(idx) < 2:
+                continue
+            closed = len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < link
+            out.append(make(kind, P[idx], N[idx], bool(closed)))
     return out
+
+
+def _merge_close(P, N, r):
+    keep = np.ones(len(P), bool)
+    for i in range(len(P)):
+        if keep[i]:
+            d = np.linalg.norm(P[i + 1:] - P[i], axis=1)
+            keep[i + 1:][d < r] = False
+    return P[keep], N[keep]
+
+
+def _walk(P, used, seed, link, reverse_seed=False):
+    """Extend from seed[-1] (or, reversed, away from seed[1]) until no point continues."""
+    chain = []
+    cur = seed[0]
+    prev = None
+    if reverse_seed and len(seed) > 1:
+        prev = seed[1]
+    elif not reverse_seed and len(seed) > 1:
+        prev = seed[-2]
+    while True:
+        free = np.flatnonzero(~used)
+        if len(free) == 0:
+            break
+        d = np.linalg.norm(P[free] - P[cur], axis=1)
+        ok = d < link
+        if prev is not None:
+            direction = P[cur] - P[prev]
+            ok &= (P[free] - P[cur]) @ direction > 0
+        if not ok.any():
+            break
+        j = int(free[ok][np.argmin(d[ok])])
+        used[j] = True
+        chain.append(j)
+        prev, cur = cur, j
+    return chain

@@ -40,6 +40,12 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     ref = na - nb
     eps = 0.25 * float(np.linalg.norm(b - a, axis=1).mean()) if len(a) else 1.0
     X, gX, A, B, nA, nB, valid = surface.bisect(kinds, a, b, ref, tol)
+    cre = np.flatnonzero((kinds == CREASE) & valid)
+    if len(cre):
+        # creases: bisect once more from the narrowed bracket with its own side normals
+        x2, g2, A2, B2, nA2, nB2, v2 = surface.bisect(kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol)
+        X[cre[v2]], gX[cre[v2]], A[cre[v2]], B[cre[v2]] = x2[v2], g2[v2], A2[v2], B2[v2]
+        nA[cre[v2]], nB[cre[v2]] = nA2[v2], nB2[v2]
     cre = kinds == CREASE
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA, nB), -1, 1))
     # a crease must be a jump of the normal; a silhouette or curvature-sign crossing must
