@@ -3,8 +3,9 @@ in pen and ink as Grease Pencil (a Blender extension)."""
 import bpy
 
 from . import blobtree_nodes, cli, operators
+from .grease_pencil import cli_render
 
-modules = (blobtree_nodes, operators)
+modules = (blobtree_nodes, operators, cli_render)
 
 
 def _cli_command(argv):

@@ -32,12 +32,20 @@ def _parser():
     pe.add_argument("--points", required=True, help="input .npy, an (N,3) float array")
     pe.add_argument("--out", required=True, help="output .npy: (N,) field or (N,4) field+gradient")
     pe.add_argument("--gradient", action="store_true", help="also write the gradient")
-    for register in _EXTRA:
-        register(sub)
+    for add in _EXTRA.values():
+        add(sub)
     return p
 
 
-_EXTRA = []   # other modules add subcommands here (e.g. render)
+_EXTRA = {}   # subcommands the Blender layer adds (render needs bpy): name -> add_parser(sub)
+
+
+def register_command(name, add_parser):
+    _EXTRA[name] = add_parser
+
+
+def unregister_command(name):
+    _EXTRA.pop(name, None)
 
 
 def _load_model(path):
@@ -144,7 +152,8 @@ def main(argv=None, out=None):
     except SystemExit as e:          # argparse: usage error or --help
         return int(e.code or 0)
     try:
-        return COMMANDS[args.command](args, out)
+        fn = COMMANDS.get(args.command) or args.func
+        return fn(args, out)
     except CliError as e:
         sys.stderr.write(f"blobtree-ink: error: {e}\n")
         return 1

@@ -1,0 +1,120 @@
+"""Illustrate a model and write DIR/NAME.png, DIR/NAME.blend and DIR/NAME.svg.
+
+The pure pipeline (MASSRIS outlines, hidden-line removal against the exact surface,
+plain stroke data) feeds the Grease Pencil writer; Blender renders the PNG (Workbench,
+white paper), saves the .blend and exports the SVG with its own Grease Pencil exporter.
+Every output is written to a temporary name in DIR and renamed into place, so a failed
+or interrupted run never leaves a half-written file or replaces a good one.
+"""
+import os
+import re
+import time
+
+import bpy
+import numpy as np
+
+from ..agents import Session, Settings
+from ..blackboard.polygonise import surface_box
+from ..blackboard.view import View
+from ..model import Evaluator
+from ..strokes import Stroke, StrokeSet, split_visible
+from ..strokes.data import LAYER_OF_KIND
+from . import scene as S
+from .writer import ink_object, write
+
+
+class RenderError(Exception):
+    """A user-facing failure of the render (bad options, nothing to draw)."""
+
+
+def plan_view(ev, azimuth=35.0, elevation=25.0):
+    box = surface_box(ev)
+    if box is None:
+        raise RenderError("the model has no surface to draw (its field never reaches iso)")
+    lo, hi = box
+    centre = 0.5 * (lo + hi)
+    radius = 0.5 * float(np.linalg.norm(hi - lo))
+    return centre, radius, S.three_quarter_eye(centre, radius, azimuth, elevation)
+
+
+def stroke_set(session, ev, eye, line_radius):
+    """Visible parts of the session's outlines as plain strokes."""
+    out = StrokeSet()
+    for o in session.outlines():
+        pts = o.points
+        if o.closed:
+            pts = np.vstack([pts, pts[:1]])
+        nrm = np.vstack([o.normals, o.normals[:1]]) if o.closed else o.normals
+        runs = split_visible(ev, pts, eye, nrm)
+        whole = o.closed and runs == [(0, len(pts))]
+        for a, b in runs:
+            seg = pts[a:b - 1] if whole else pts[a:b]
+            k = len(seg)
+            out.add(LAYER_OF_KIND[o.kind], Stroke(seg, np.full(k, line_radius), np.ones(k), cyclic=whole))
+    return out
+
+
+def illustrate(model, out_dir, size=1024, grid=20, agents=10, seed=0, azimuth=35.0, elevation=25.0,
+               seconds=None, log=print):
+    if not os.path.isdir(out_dir):
+        raise RenderError(f"output directory {out_dir} does not exist")
+    if not (64 <= size <= 8192):
+        raise RenderError(f"--size must be from 64 to 8192 pixels, got {size}")
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", model.name) or "model"
+    t0 = time.perf_counter()
+    ev = Evaluator(model)
+    centre, radius, eye = plan_view(ev, azimuth, elevation)
+    try:
+        session = Session(ev, View(eye=eye), Settings(resolution=grid, agents=agents, seed=seed))
+    except ValueError as e:
+        raise RenderError(str(e)) from None
+    session.request("OUTLINES")
+    session.run(seconds=seconds)
+    prog = session.progress()
+    log(f"outlines: {prog['outlines']} after {prog['iterations']} iterations, "
+        f"length {prog['outline_length']:.3g} ({time.perf_counter() - t0:.1f} s)")
+    view_width = 2 * np.linalg.norm(eye - centre) * 18.0 / 50.0
+    strokes = stroke_set(session, ev, eye, line_radius=1.1 * view_width / size)
+    if strokes.count() == 0:
+        raise RenderError("no visible outline was found to draw")
+    bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
+    sc = bpy.context.scene
+    obj = ink_object(f"{model.name} Ink")
+    write(obj, strokes, frame=sc.frame_current)
+    S.setup(sc, centre, eye, size=size)
+    paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
+    _atomic(paths["png"], lambda tmp: _render_png(sc, tmp))
+    _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp))
+    _atomic(paths["blend"], lambda tmp: bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, check_existing=False))
+    log(f"strokes: " + ", ".join(f"{k} {len(v)}" for k, v in strokes.layers.items() if v) +
+        f"; wrote {', '.join(paths.values())} ({time.perf_counter() - t0:.1f} s)")
+    return paths, strokes, session
+
+
+def _atomic(path, write_fn):
+    d, base = os.path.split(path)
+    stem, ext = os.path.splitext(base)
+    tmp = os.path.join(d, f".{stem}.partial{ext}")
+    try:
+        write_fn(tmp)
+        if not os.path.exists(tmp):
+            raise RenderError(f"Blender did not write {tmp}")
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+
+
+def _render_png(sc, tmp):
+    sc.render.filepath = tmp
+    bpy.ops.render.render(write_still=True)
+
+
+def _export_svg(obj, tmp):
+    for o in bpy.context.view_layer.objects:
+        o.select_set(o == obj)
+    bpy.context.view_layer.objects.active = obj
+    res = bpy.ops.wm.grease_pencil_export_svg(filepath=tmp, selected_object_type="ACTIVE", use_fill=False,
+                                              use_uniform_width=False, use_clip_camera=True)
+    if res != {"FINISHED"}:
+        raise RenderError(f"Grease Pencil SVG export failed: {res}")

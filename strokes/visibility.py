@@ -1,0 +1,77 @@
+"""Hidden-line removal against the exact iso-surface (not the rough polygonisation).
+
+A point is visible when the segment from it to the eye does not enter the solid
+(f >= iso). Segments are marched in one batch: each starts a small offset off the
+surface towards the eye, is clipped to the model's support box (outside it the field
+is 0), and is sampled at a fixed fraction of the model's size. Strokes are split where
+visibility changes and the hidden parts dropped.
+"""
+import numpy as np
+
+
+def _clip(O, D, lo, hi):
+    """Parameter range [t0, t1] of rays O + t D (t in [0, 1]) inside the box."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = 1.0 / D
+        ta = (lo - O) * inv
+        tb = (hi - O) * inv
+    tmin = np.nanmax(np.where(np.isfinite(np.minimum(ta, tb)), np.minimum(ta, tb), -np.inf), axis=1)
+    tmax = np.nanmin(np.where(np.isfinite(np.maximum(ta, tb)), np.maximum(ta, tb), np.inf), axis=1)
+    inside_axis = (D == 0) & ((O < lo) | (O > hi))
+    tmax = np.where(inside_axis.any(axis=1), -1.0, tmax)
+    return np.maximum(tmin, 0.0), np.minimum(tmax, 1.0)
+
+
+def visible(ev, P, eye, normals=None, step=None, offset=None):
+    """Boolean visibility of points P (n,3) seen from eye."""
+    P = np.asarray(P, float)
+    if len(P) == 0:
+        return np.zeros(0, bool)
+    scale = ev.scale
+    step = step if step is not None else 2e-3 * scale
+    offset = offset if offset is not None else 2e-3 * scale
+    to_eye = eye - P
+    dist = np.linalg.norm(to_eye, axis=1)
+    u = to_eye / dist[:, None]
+    start = P + offset * u
+    if normals is not None:
+        start = start + 0.5 * offset * np.asarray(normals)
+    D = eye - start
+    lo, hi = ev.bounds
+    t0, t1 = _clip(start, D, lo, hi)
+    vis = np.ones(len(P), bool)
+    live = np.flatnonzero(t1 > t0)
+    length = np.linalg.norm(D, axis=1)
+    k = 0
+    while len(live):
+        t = t0[live] + (k * step) / length[live]
+        going = t <= t1[live]
+        live = live[going]
+        if len(live) == 0:
+            break
+        t = t[going]
+        f = ev.field(start[live] + t[:, None] * D[live])
+        hit = f >= ev.iso
+        vis[live[hit]] = False
+        live = live[~hit]
+        k += 1
+    return vis
+
+
+def split_visible(ev, stroke_points, eye, normals=None, min_points=2):
+    """[(start, end)] index ranges of the visible runs of a polyline."""
+    v = visible(ev, stroke_points, eye, normals)
+    runs = []
+    i = 0
+    n = len(v)
+    while i < n:
+        if v[i]:
+            j = i
+            while j + 1 < n and v[j + 1]:
+                j += 1
+            if j - i + 1 >= min_points:
+                runs.append((i, j + 1))
+            i = j + 1
+        else:
+            i += 1
+    return runs
