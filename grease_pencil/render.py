@@ -57,7 +57,10 @@ def stroke_set(session, ev, eye, line_radius):
 def illustrate(model, out_dir, size=1024, grid=20, agents=10, seed=0, azimuth=35.0, elevation=25.0,
                seconds=None, log=print):
     if not os.path.isdir(out_dir):
-        raise RenderError(f"output directory {out_dir} does not exist")
+        parent = os.path.dirname(os.path.abspath(out_dir))
+        if not os.path.isdir(parent):
+            raise RenderError(f"output directory {out_dir} does not exist (nor does its parent)")
+        os.mkdir(out_dir)
     if not (64 <= size <= 8192):
         raise RenderError(f"--size must be from 64 to 8192 pixels, got {size}")
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", model.name) or "model"

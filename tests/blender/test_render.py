@@ -1,0 +1,107 @@
+"""Grease Pencil output and the render command: layers, bulk-written strokes, one
+object per model, PNG/.blend/SVG outputs."""
+import io
+import os
+import xml.etree.ElementTree as ET
+
+import bpy
+import numpy as np
+import pytest
+
+
+def mod(ext, name):
+    from importlib import import_module
+    return import_module(f"{ext.__name__}.{name}")
+
+
+def stroke_set(ext, n_lines=3, n_dots=2):
+    S = mod(ext, "strokes")
+    s = S.StrokeSet()
+    for i in range(n_lines):
+        k = 5 + i
+        s.add("Silhouette", S.Stroke(np.c_[np.arange(k), np.full(k, i), np.zeros(k)].astype(float),
+                                     np.full(k, 0.01), np.linspace(0.5, 1, k), cyclic=(i == 0)))
+    for i in range(n_dots):
+        s.add("Stipples", S.Stroke(np.array([[i, 0.0, 1.0]]), np.array([0.02]), np.array([1.0]), dots=True))
+    return s
+
+
+def test_writer_puts_strokes_on_their_layers_in_bulk(ext):
+    W = mod(ext, "grease_pencil.writer")
+    obj = W.ink_object("model Ink")
+    W.write(obj, stroke_set(ext), frame=1)
+    gp = obj.data
+    assert [l.name for l in gp.layers] == ["Silhouette", "Crease", "Curvature", "Hatching", "Stipples", "Strokes"]
+    sil = gp.layers["Silhouette"].frames[0].drawing
+    assert len(sil.strokes) == 3 and [len(s.points) for s in sil.strokes] == [5, 6, 7]
+    assert sil.strokes[0].cyclic and not sil.strokes[1].cyclic
+    p = sil.strokes[2].points[3]
+    assert tuple(p.position) == (3.0, 2.0, 0.0) and p.radius == pytest.approx(0.01)
+    assert sil.strokes[0].points[4].opacity == pytest.approx(1.0)
+    dots = gp.layers["Stipples"].frames[0].drawing
+    assert [len(s.points) for s in dots.strokes] == [1, 1]
+    mats = [m.name for m in gp.materials]
+    assert gp.materials[dots.strokes[0].material_index].grease_pencil.mode == "DOTS"
+    assert gp.materials[sil.strokes[0].material_index].grease_pencil.mode == "LINE"
+    assert len(mats) == 2
+
+
+def test_running_again_replaces_the_drawing_and_keeps_one_object(ext):
+    W = mod(ext, "grease_pencil.writer")
+    W.write(W.ink_object("model Ink"), stroke_set(ext, 3, 2))
+    W.write(W.ink_object("model Ink"), stroke_set(ext, 1, 0))
+    gps = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
+    assert len(gps) == 1
+    assert len(gps[0].data.layers["Silhouette"].frames[0].drawing.strokes) == 1
+    assert len(gps[0].data.layers["Stipples"].frames[0].drawing.strokes) == 0
+    assert len(gps[0].data.layers["Silhouette"].frames) == 1
+
+
+def test_render_command_writes_png_blend_and_svg(ext, example, tmp_path):
+    out = io.StringIO()
+    code = ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--size", "256", "--grid", "14"], out=out)
+    assert code == 0, out.getvalue()
+    png, blend, svg = (tmp_path / f"pear.{e}" for e in ("png", "blend", "svg"))
+    assert png.exists() and blend.exists() and svg.exists()
+    assert not [p for p in os.listdir(tmp_path) if ".partial" in p]
+    img = bpy.data.images.load(str(png))
+    px = np.array(img.pixels[:]).reshape(img.size[1], img.size[0], img.channels)[..., :3]
+    assert img.size[0] == 256
+    assert np.median(px) > 0.95                     # white paper
+    dark = (px.mean(axis=2) < 0.5).mean()
+    assert 0.002 < dark < 0.2                       # ink lines, not a blank or a black image
+    root = ET.parse(svg).getroot()
+    paths = [e for e in root.iter() if e.tag.endswith("path")]
+    assert len(paths) >= 3
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    gp = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
+    assert len(gp) == 1 and bpy.context.scene.camera is not None
+    layers = {l.name: len(l.frames[0].drawing.strokes) if len(l.frames) else 0 for l in gp[0].data.layers}
+    assert layers["Silhouette"] >= 1 and layers["Crease"] >= 1    # the outline and the bite's rim
+
+
+def test_visible_strokes_lie_on_the_surface_and_face_the_eye(ext, example):
+    M = mod(ext, "model")
+    R = mod(ext, "grease_pencil.render")
+    A = mod(ext, "agents")
+    V = mod(ext, "blackboard.view")
+    model = M.load(example("sphere"))
+    ev = M.Evaluator(model)
+    centre, radius, eye = R.plan_view(ev)
+    s = A.Session(ev, V.View(eye=eye), A.Settings(resolution=12))
+    s.request("OUTLINES")
+    s.run()
+    strokes = R.stroke_set(s, ev, eye, 0.01)
+    pts = np.concatenate([st.points for st in strokes.layers["Silhouette"]])
+    f, g = ev.field_grad(pts)
+    assert np.abs(f - 0.5).max() < 1e-9
+    assert strokes.count("Silhouette") == 1        # a sphere's whole silhouette is visible
+
+
+def test_render_rejects_bad_options(ext, example, tmp_path, capsys):
+    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path / "missing" / "deeper")]) == 1
+    assert "does not exist (nor does its parent)" in capsys.readouterr().err
+    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--grid", "500"]) == 1
+    assert "resolution must be a whole number from 8 to 128" in capsys.readouterr().err
+    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--requests", "hatching"]) == 2
+    assert not os.listdir(tmp_path)
