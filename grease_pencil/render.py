@@ -54,7 +54,7 @@ def stroke_set(session, ev, eye, line_radius):
     return out
 
 
-def illustrate(model, out_dir, size=1024, grid=20, agents=10, seed=0, azimuth=35.0, elevation=25.0,
+def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35.0, elevation=25.0,
                seconds=None, log=print):
     if not os.path.isdir(out_dir):
         parent = os.path.dirname(os.path.abspath(out_dir))

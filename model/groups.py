@@ -13,6 +13,7 @@ from . import primitives as PR
 
 GRID_MIN_MEMBERS = 5         # smaller groups test every member on every point
 GRID_MAX_CELLS = 48 ** 3
+SMALL_DENSE = 2048           # a small batch tests every member: cheaper than the grid lookup
 
 
 class Group:
@@ -42,7 +43,7 @@ class Group:
         """Candidate pairs for P (3, n): point index and member index of each pair,
         sorted by point, and the number of pairs of each point."""
         n = P.shape[1]
-        if self.grid is None:
+        if self.grid is None or n * self.m <= SMALL_DENSE:
             if self.m == 1:
                 return None, None, None
             pp = np.repeat(np.arange(n), self.m)
