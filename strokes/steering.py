@@ -1,0 +1,95 @@
+"""Steering and flocking behaviours (Reynolds; Smarticles section 5) as pure functions
+of arrays: each returns one steering vector per smarticle, to be combined with weights
+(:func:`combine`) and integrated in a separate step (:func:`integrate`). Smarticles are
+points, not vehicles: no local frame, and surface smarticles are put back on the
+iso-surface after every step (the attractor correction F = (f(x) - iso) grad f(x),
+applied as Newton steps).
+"""
+import numpy as np
+
+
+def tangent(v, n):
+    """v projected into the tangent planes of normals n."""
+    return v - np.einsum("ij,ij->i", v, n)[:, None] * n
+
+
+def unit(v):
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
+
+
+def wander(vel, normals, rng, jitter=0.5):
+    """Small random changes of heading, kept in the tangent plane (the sum of the
+    scaled velocity and a random displacement keeps the path from being erratic)."""
+    r = rng.normal(size=vel.shape) * jitter
+    return tangent(unit(vel) + r, normals)
+
+
+def flow(field_dirs, vel):
+    """Follow a flow field (principal directions, contour direction or an axis); the
+    field's sign is chosen to agree with the current heading, so paths do not reverse."""
+    s = np.sign(np.einsum("ij,ij->i", field_dirs, vel))
+    s[s == 0] = 1.0
+    return field_dirs * s[:, None]
+
+
+def axis_field(normals, axis):
+    """A global axis (horizontal or vertical strokes) projected on the surface."""
+    return unit(tangent(np.broadcast_to(np.asarray(axis, float), normals.shape).copy(), normals))
+
+
+def contour_field(normals, view_dirs):
+    """The contour direction: tangent and perpendicular to the view direction."""
+    return unit(np.cross(normals, view_dirs))
+
+
+def seek(P, target):
+    return unit(np.asarray(target, float) - P)
+
+
+def separation(P, flock, radius):
+    """Steer away from flockmates closer than radius (weighted by inverse distance)."""
+    out = np.zeros_like(P)
+    for g in np.unique(flock):
+        idx = np.flatnonzero(flock == g)
+        if len(idx) < 2:
+            continue
+        d = P[idx, None, :] - P[None, idx, :]
+        dist = np.linalg.norm(d, axis=2)
+        near = (dist > 0) & (dist < radius)
+        w = np.where(near, 1.0 / np.maximum(dist, 1e-300) ** 2, 0.0)
+        out[idx] = (d * w[:, :, None]).sum(1)
+    return out
+
+
+def alignment(V, flock):
+    """Steer towards the flock's mean heading."""
+    out = np.zeros_like(V)
+    for g in np.unique(flock):
+        idx = np.flatnonzero(flock == g)
+        out[idx] = unit(V[idx]).mean(0) - unit(V[idx])
+    return out
+
+
+def cohesion(P, flock):
+    """Steer towards the flock's centre."""
+    out = np.zeros_like(P)
+    for g in np.unique(flock):
+        idx = np.flatnonzero(flock == g)
+        out[idx] = P[idx].mean(0) - P[idx]
+    return out
+
+
+def combine(forces, weights):
+    """Weighted sum of steering vectors (names in both dicts)."""
+    total = None
+    for name, w in weights.items():
+        if w and name in forces:
+            total = w * forces[name] if total is None else total + w * forces[name]
+    return total
+
+
+def integrate(P, V, F, dt, speed):
+    """Forward Euler: the steering force changes the velocity, the velocity the
+    position; speed is clamped so each step has a fixed length on the surface."""
+    V = unit(V + dt * F) * speed
+    return P + dt * V, V

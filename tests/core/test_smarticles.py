@@ -1,0 +1,119 @@
+"""Smarticles: steering on the surface, flocking, termination, hatching and stipples."""
+import math
+
+import numpy as np
+
+from blobtree_ink import model as M
+from blobtree_ink.strokes import layers, smarticles as sm, steering as st
+
+K = math.sqrt(1 - 0.5 ** (1 / 3))
+
+
+def ev_of(root):
+    return M.Evaluator(M.from_dict({"format": "blobtree-1", "root": root}))
+
+
+def cylinder():
+    return ev_of({"type": "segment", "a": [-4, 0, 0], "b": [4, 0, 0], "radius": 1.0})
+
+
+def ring_starts(r, n, x=0.0):
+    t = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return np.stack([np.full(n, x), r * np.cos(t), r * np.sin(t)], axis=1)
+
+
+def test_paths_stay_on_the_surface_and_follow_the_principal_direction():
+    ev = cylinder()
+    r = K
+    rng = np.random.default_rng(0)
+    rules = sm.StrokeRules(max_steps=15, stop_on_curvature_sign=False)
+    # dir2 (zero curvature) is the axis; dir1 goes around
+    res = sm.run(ev, ring_starts(r, 12), layers.direction_field("dir2"), 0.05, sm.PRESETS["hatching"], rules, rng)
+    for p in res.paths:
+        assert len(p) == 16
+        f = ev.field(p)
+        assert np.abs(f - 0.5).max() < 1e-9
+        seg = np.diff(p, axis=0)
+        cosang = np.abs(seg[:, 0]) / np.linalg.norm(seg, axis=1)
+        assert cosang.min() > math.cos(math.radians(5))
+    res = sm.run(ev, ring_starts(r, 6, x=1.0), layers.direction_field("dir1"), 0.05, sm.PRESETS["hatching"],
+                 rules, rng)
+    for p in res.paths:
+        assert np.abs(p[:, 0] - 1.0).max() < 1e-6          # around the cylinder, not along it
+
+
+def test_termination_rules_and_the_terminating_point_is_excluded():
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    r = K
+    rng = np.random.default_rng(1)
+    rules = sm.StrokeRules(max_steps=200, max_normal_angle=math.radians(30), stop_on_curvature_sign=False)
+    res = sm.run(ev, np.array([[0, 0, r]]), layers.direction_field("axis", (1, 0, 0)), 0.02,
+                 sm.PRESETS["hatching"], rules, rng)
+    p, n = res.paths[0], res.normals[0]
+    assert res.reasons[0] == "normal angle"
+    angles = np.degrees(np.arccos(np.clip(n @ n[0], -1, 1)))
+    assert angles.max() <= 30 and angles.max() > 27     # stopped just before the limit, not after
+    rules = sm.StrokeRules(max_steps=200, max_length=0.1, max_normal_angle=math.pi, stop_on_curvature_sign=False)
+    res = sm.run(ev, np.array([[0, 0, r]]), layers.direction_field("axis", (1, 0, 0)), 0.02,
+                 sm.PRESETS["hatching"], rules, rng)
+    L = np.linalg.norm(np.diff(res.paths[0], axis=0), axis=1).sum()
+    assert res.reasons[0] == "length" and 0.08 <= L <= 0.1
+
+
+def test_curvature_sign_change_ends_a_stroke():
+    # a ball with a smooth dent on top (a negative-strength point): convex around, concave inside
+    ev = ev_of({"type": "blend", "children": [{"type": "point", "center": [0, 0, 0], "radius": 2.0},
+                                              {"type": "point", "center": [0, 0, 1.15], "radius": 0.8,
+                                               "strength": -0.6}]})
+    rng = np.random.default_rng(2)
+    from blobtree_ink.agents.surface import Surface
+    from blobtree_ink.model.curvature import curvature
+    start = Surface(ev, None).project(np.array([[-0.75, 0.0, 0.5]]))[0]
+    assert curvature(ev, start)["mean"][0] > 0
+    assert curvature(ev, Surface(ev, None).project(np.array([[0.0, 0, 0.8]]))[0])["mean"][0] < 0
+    rules = sm.StrokeRules(max_steps=400, max_normal_angle=math.pi, stop_on_curvature_sign=True)
+    res = sm.run(ev, start, layers.direction_field("axis", (1, 0, 0)), 0.01, sm.PRESETS["hatching"], rules, rng)
+    assert res.reasons[0] == "curvature sign"
+    last = res.paths[0][-1]
+    assert curvature(ev, last[None])["mean"][0] > 0      # the convex side: the crossing point is excluded
+    assert -0.75 < last[0] < 0.0                         # stopped at the dent's rim
+
+
+def test_flocking_cohesion_converges_and_separation_keeps_apart():
+    ev = cylinder()
+    rng = np.random.default_rng(3)
+    starts = np.array([[0, K * math.cos(a), K * math.sin(a)] for a in np.linspace(-0.6, 0.6, 6)])
+    rules = sm.StrokeRules(max_steps=40, stop_on_curvature_sign=False, max_normal_angle=math.pi)
+    field = layers.direction_field("dir2")
+    spread = lambda res: np.ptp(np.array([p[-1] for p in res.paths])[:, 1:], axis=0).max()   # noqa: E731
+    together = sm.run(ev, starts, field, 0.03, {"flow": 1.0, "cohesion": 3.0}, rules, rng, flock=np.zeros(6, int))
+    apart = sm.run(ev, starts, field, 0.03, {"flow": 1.0, "separation": 3.0}, rules, rng, flock=np.zeros(6, int),
+                   separation_radius=0.6)
+    start_spread = np.ptp(starts[:, 1:], axis=0).max()
+    assert spread(together) < 0.5 * start_spread
+    assert spread(apart) > start_spread
+    for res in (together, apart):
+        for p in res.paths:
+            assert np.abs(ev.field(p) - 0.5).max() < 1e-9
+
+
+def test_hatching_only_in_shade_and_stipples_are_dots():
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    rng = np.random.default_rng(4)
+    d = np.random.default_rng(5).normal(size=(400, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    starts, normals = K * d, d
+    eye = np.array([0.0, -6.0, 0.0])
+    light = (0.0, -1.0, 1.0)
+    strokes = layers.hatching(ev, starts, normals, eye, light, 0.02, rng, field="dir1", lower=0.2, upper=0.5)
+    assert strokes
+    L = np.array(light) / np.linalg.norm(light)
+    for s in strokes:
+        nn = s.points / K
+        assert (nn @ L).max() <= 0.5 + 1e-9           # shortened where it would leave the shade
+        assert (s.points[:, 1] < 0.05).all()          # only the side facing the eye is drawn
+        assert not s.dots
+    dots = layers.stipples(ev, starts, normals, eye, light, 0.02, rng)
+    assert dots and all(s.dots and len(s.points) == 1 for s in dots)
+    P = np.concatenate([s.points for s in dots])
+    assert np.abs(ev.field(P) - 0.5).max() < 1e-9
