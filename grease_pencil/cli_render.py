@@ -12,8 +12,8 @@ def add_parser(sub):
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--azimuth", type=float, default=35.0, help="camera azimuth in degrees from the front")
     p.add_argument("--elevation", type=float, default=25.0, help="camera elevation in degrees")
-    p.add_argument("--requests", default="outlines", choices=["outlines"],
-                   help="what to draw (outlines; hatching and stipples are not implemented yet)")
+    p.add_argument("--requests", default="outlines",
+                   help="what to draw, comma-separated: outlines, hatching, stipples (default outlines)")
     p.add_argument("--seconds", type=float, default=None, help="time budget for the agents")
     p.set_defaults(func=run)
 
@@ -28,6 +28,7 @@ def run(args, out):
     try:
         illustrate(model, args.out, size=args.size, grid=args.grid, agents=args.agents, seed=args.seed,
                    azimuth=args.azimuth, elevation=args.elevation, seconds=args.seconds,
+                   requests=tuple(r.strip() for r in args.requests.split(",") if r.strip()),
                    log=lambda m: (out.write(m + "\n"), out.flush()))
     except RenderError as e:
         raise CliError(str(e)) from None

@@ -18,7 +18,9 @@ from ..blackboard.polygonise import surface_box
 from ..blackboard.view import View
 from ..model import Evaluator
 from ..strokes import Stroke, StrokeSet, split_visible
+from ..strokes import layers as L
 from ..strokes.data import LAYER_OF_KIND
+from . import svg
 from . import scene as S
 from .writer import ink_object, write
 
@@ -54,8 +56,36 @@ def stroke_set(session, ev, eye, line_radius):
     return out
 
 
+REQUESTS = ("outlines", "hatching", "stipples")
+
+
+def default_light(centre, eye):
+    """Light from the upper left of the viewer, as illustrators draw it."""
+    d = np.asarray(eye, float) - np.asarray(centre, float)
+    d /= np.linalg.norm(d)
+    right = np.cross(d, [0.0, 0.0, 1.0])
+    right /= max(np.linalg.norm(right), 1e-12)
+    light = 0.5 * d - 0.6 * right + 0.7 * np.array([0.0, 0.0, 1.0])
+    return light / np.linalg.norm(light)
+
+
+def add_layers(strokes, session, ev, eye, light, requests, rng, line_radius):
+    """Hatching and stipples from the polygon vertices (MASSRIS section 7)."""
+    V, N = session.mesh.vertices, session.vertex_normals
+    step = 0.3 * session.h
+    if "hatching" in requests:
+        for st in L.hatching(ev, V, N, eye, light, step, rng, field="dir1", radius=0.6 * line_radius):
+            strokes.add("Hatching", st)
+        for st in L.hatching(ev, V, N, eye, light, step, rng, field="dir2", lower=0.1, upper=0.3,
+                             radius=0.5 * line_radius):
+            strokes.add("Hatching", st)          # cross-hatching in the darkest shade
+    if "stipples" in requests:
+        for st in L.stipples(ev, V[::2], N[::2], eye, light, 0.5 * step, rng, radius=1.2 * line_radius):
+            strokes.add("Stipples", st)
+
+
 def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35.0, elevation=25.0,
-               seconds=None, log=print):
+               seconds=None, requests=("outlines",), log=print):
     if not os.path.isdir(out_dir):
         parent = os.path.dirname(os.path.abspath(out_dir))
         if not os.path.isdir(parent):
@@ -76,8 +106,14 @@ def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35
     prog = session.progress()
     log(f"outlines: {prog['outlines']} after {prog['iterations']} iterations, "
         f"length {prog['outline_length']:.3g} ({time.perf_counter() - t0:.1f} s)")
+    bad = [r for r in requests if r not in REQUESTS]
+    if bad or not requests:
+        raise RenderError(f"requests must be some of {', '.join(REQUESTS)}, got {', '.join(requests) or 'none'}")
     view_width = 2 * np.linalg.norm(eye - centre) * 18.0 / 50.0
-    strokes = stroke_set(session, ev, eye, line_radius=1.1 * view_width / size)
+    line_radius = 1.1 * view_width / size
+    strokes = stroke_set(session, ev, eye, line_radius) if "outlines" in requests else StrokeSet()
+    add_layers(strokes, session, ev, eye, default_light(centre, eye), requests, np.random.default_rng(seed),
+               line_radius)
     if strokes.count() == 0:
         raise RenderError("no visible outline was found to draw")
     bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
@@ -87,7 +123,7 @@ def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35
     S.setup(sc, centre, eye, size=size)
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
     _atomic(paths["png"], lambda tmp: _render_png(sc, tmp))
-    _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp))
+    _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp, strokes, sc))
     _atomic(paths["blend"], lambda tmp: bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, check_existing=False))
     log(f"strokes: " + ", ".join(f"{k} {len(v)}" for k, v in strokes.layers.items() if v) +
         f"; wrote {', '.join(paths.values())} ({time.perf_counter() - t0:.1f} s)")
@@ -113,7 +149,7 @@ def _render_png(sc, tmp):
     bpy.ops.render.render(write_still=True)
 
 
-def _export_svg(obj, tmp):
+def _export_svg(obj, tmp, strokes, sc):
     for o in bpy.context.view_layer.objects:
         o.select_set(o == obj)
     bpy.context.view_layer.objects.active = obj
@@ -121,3 +157,4 @@ def _export_svg(obj, tmp):
                                               use_uniform_width=False, use_clip_camera=True)
     if res != {"FINISHED"}:
         raise RenderError(f"Grease Pencil SVG export failed: {res}")
+    svg.complete_stipples(tmp, strokes, sc)

@@ -56,7 +56,7 @@ def separation(P, flock, radius):
         d = P[idx, None, :] - P[None, idx, :]
         dist = np.linalg.norm(d, axis=2)
         near = (dist > 0) & (dist < radius)
-        w = np.where(near, 1.0 / np.maximum(dist, 1e-300) ** 2, 0.0)
+        w = np.where(near, 1.0 / np.maximum(dist, 1e-12) ** 2, 0.0)
         out[idx] = (d * w[:, :, None]).sum(1)
     return out
 
