@@ -123,7 +123,7 @@ def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35
     S.setup(sc, centre, eye, size=size)
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
     _atomic(paths["png"], lambda tmp: _render_png(sc, tmp))
-    _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp, strokes, sc))
+    _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp, strokes, sc, 1e-3 * line_radius * (eye - centre)))
     _atomic(paths["blend"], lambda tmp: bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, check_existing=False))
     log(f"strokes: " + ", ".join(f"{k} {len(v)}" for k, v in strokes.layers.items() if v) +
         f"; wrote {', '.join(paths.values())} ({time.perf_counter() - t0:.1f} s)")
@@ -149,12 +149,26 @@ def _render_png(sc, tmp):
     bpy.ops.render.render(write_still=True)
 
 
-def _export_svg(obj, tmp, strokes, sc):
+def _export_svg(obj, tmp, strokes, sc, nudge):
+    dots = strokes.count("Stipples")
+    if dots:          # the exporter drops one-point strokes: give it two-point ones for now
+        write(obj, svg.with_exportable_dots(strokes, np.cross(nudge, [0.0, 0.0, 1.0])), frame=sc.frame_current)
+    try:
+        _export(obj, tmp)
+    finally:
+        if dots:
+            write(obj, strokes, frame=sc.frame_current)
+    if dots:
+        n = svg.dots_to_circles(tmp)
+        if n != dots:
+            raise RenderError(f"the SVG export kept {n} of {dots} stipples")
+
+
+def _export(obj, tmp):
     for o in bpy.context.view_layer.objects:
         o.select_set(o == obj)
     bpy.context.view_layer.objects.active = obj
     res = bpy.ops.wm.grease_pencil_export_svg(filepath=tmp, selected_object_type="ACTIVE", use_fill=False,
-                                              use_uniform_width=False, use_clip_camera=True)
+                                              use_uniform_width=True, use_clip_camera=True)
     if res != {"FINISHED"}:
         raise RenderError(f"Grease Pencil SVG export failed: {res}")
-    svg.complete_stipples(tmp, strokes, sc)

@@ -1,70 +1,57 @@
 """Complete Blender's Grease Pencil SVG export where it falls short: it drops one-point
-strokes (and writes DOTS strokes as lines), so stipples are added as circles.
+strokes (and writes DOTS strokes as lines), so stipples would vanish from the SVG.
 
-The exporter's mapping from the camera image to SVG coordinates is not exposed; it is
-recovered by fitting a scale and offset from the exported paths' first points to the
-same strokes' first points projected through the scene camera (least squares over every
-line stroke), and the stipples are projected through the same camera and mapping.
+For the export only, each stipple is written as a two-point stroke a hair long (so the
+exporter maps it with its own projection and keeps it); afterwards those polylines of
+the Stipples layer are replaced by circles of the stroke's width, and the drawing gets
+its one-point DOTS strokes back.
 """
 import re
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from ..strokes.data import Stroke, StrokeSet
+
 SVG_NS = "http://www.w3.org/2000/svg"
-
-
-def camera_pixels(sc, P):
-    """Pixel coordinates (x right, y down) of world points in the scene camera's image."""
-    from bpy_extras.object_utils import world_to_camera_view
-    from mathutils import Vector
-    cam = sc.camera
-    w, h = sc.render.resolution_x, sc.render.resolution_y
-    out = np.empty((len(P), 2))
-    for i, p in enumerate(P):
-        v = world_to_camera_view(sc, cam, Vector(tuple(float(x) for x in p)))
-        out[i] = (v.x * w, (1.0 - v.y) * h)
-    return out
-
-
 _NUM = re.compile(r"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
 
 
-def _first_points(root):
-    pts = []
-    for el in root.iter():
-        if el.tag.endswith("path") and el.get("d"):
-            nums = _NUM.findall(el.get("d"))
-            if len(nums) >= 2:
-                pts.append((float(nums[0]), float(nums[1])))
-    return np.array(pts)
+def with_exportable_dots(strokes, nudge):
+    """A copy of the stroke set whose stipples are two-point strokes (p, p + nudge)."""
+    out = StrokeSet()
+    for name, ss in strokes.layers.items():
+        for s in ss:
+            if s.dots:
+                p = s.points[0]
+                s = Stroke(np.array([p, p + nudge]), np.repeat(s.radius[:1], 2), np.repeat(s.opacity[:1], 2),
+                           dots=True)
+            out.add(name, s)
+    return out
 
 
-def complete_stipples(path, strokes, sc):
-    dots = [s for s in strokes.layers.get("Stipples", []) if s.dots]
-    if not dots:
-        return 0
+def dots_to_circles(path):
+    """Replace the Stipples layer's polylines (or paths) by filled circles; returns the count."""
     ET.register_namespace("", SVG_NS)
     tree = ET.parse(path)
     root = tree.getroot()
-    lines = [s for name, ss in strokes.layers.items() for s in ss if not s.dots]
-    svg_first = _first_points(root)
-    if len(lines) == 0 or len(svg_first) != len(lines):
-        raise ValueError(f"cannot match the SVG's {len(svg_first)} paths to {len(lines)} line strokes")
-    cam_first = camera_pixels(sc, np.array([s.points[0] for s in lines]))
-    # svg = a * cam + b, one scale for both axes (the exporter keeps the aspect)
-    A = np.concatenate([cam_first[:, 0], cam_first[:, 1]])
-    B = np.concatenate([svg_first[:, 0], svg_first[:, 1]])
-    M = np.zeros((2 * len(lines), 3))
-    M[:, 0] = A
-    M[:len(lines), 1] = 1.0
-    M[len(lines):, 2] = 1.0
-    (a, bx, by), *_ = np.linalg.lstsq(M, B, rcond=None)
-    P = camera_pixels(sc, np.array([s.points[0] for s in dots]))
-    g = ET.SubElement(root, f"{{{SVG_NS}}}g", {"id": "layer.Stipples.circles"})
-    px_radius = max(0.5, a * 1.0)
-    for x, y in P:
-        ET.SubElement(g, f"{{{SVG_NS}}}circle", {"cx": f"{a * x + bx:.4f}", "cy": f"{a * y + by:.4f}",
-                                                 "r": f"{px_radius:.3f}", "fill": "#050508", "stroke": "none"})
+    n = 0
+    for g in root.iter():
+        if not (g.tag.endswith("g") and (g.get("id") or "").startswith("layer.Stipples")):
+            continue
+        for el in list(g):
+            data = el.get("points") or el.get("d")
+            if not data:
+                continue
+            nums = [float(x) for x in _NUM.findall(data)]
+            xy = np.array(nums[:len(nums) // 2 * 2]).reshape(-1, 2)
+            c = xy.mean(axis=0)
+            width = float(el.get("stroke-width") or 1.0)
+            colour = el.get("stroke") or "#000000"
+            g.remove(el)
+            ET.SubElement(g, f"{{{SVG_NS}}}circle", {"cx": f"{c[0]:.4f}", "cy": f"{c[1]:.4f}",
+                                                     "r": f"{max(width / 2, 0.25):.4f}", "fill": colour,
+                                                     "stroke": "none"})
+            n += 1
     tree.write(path, xml_declaration=True, encoding="UTF-8")
-    return len(P)
+    return n

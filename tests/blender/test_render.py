@@ -71,7 +71,7 @@ def test_render_command_writes_png_blend_and_svg(ext, example, tmp_path):
     dark = (px.mean(axis=2) < 0.5).mean()
     assert 0.002 < dark < 0.2                       # ink lines, not a blank or a black image
     root = ET.parse(svg).getroot()
-    paths = [e for e in root.iter() if e.tag.endswith("path")]
+    paths = [e for e in root.iter() if e.tag.endswith(("path", "polyline"))]
     assert len(paths) >= 3
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     gp = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
@@ -103,5 +103,30 @@ def test_render_rejects_bad_options(ext, example, tmp_path, capsys):
     assert "does not exist (nor does its parent)" in capsys.readouterr().err
     assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--grid", "500"]) == 1
     assert "resolution must be a whole number from 8 to 128" in capsys.readouterr().err
-    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--requests", "hatching"]) == 2
+    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--size", "10"]) == 1
+    assert "--size must be from 64 to 8192" in capsys.readouterr().err
     assert not os.listdir(tmp_path)
+
+
+def test_render_with_hatching_and_stipples(ext, example, tmp_path):
+    out = io.StringIO()
+    code = ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--size", "256", "--grid", "12",
+                         "--requests", "outlines,hatching,stipples"], out=out)
+    assert code == 0, out.getvalue()
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "pear.blend"))
+    gp = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"][0].data
+    hatch = gp.layers["Hatching"].frames[0].drawing
+    dots = gp.layers["Stipples"].frames[0].drawing
+    assert len(hatch.strokes) > 10 and all(len(s.points) >= 2 for s in hatch.strokes)
+    assert len(dots.strokes) > 10 and all(len(s.points) == 1 for s in dots.strokes)
+    assert {gp.materials[s.material_index].grease_pencil.mode for s in dots.strokes} == {"DOTS"}
+    root = ET.parse(tmp_path / "pear.svg").getroot()
+    circles = [e for e in root.iter() if e.tag.endswith("circle")]
+    assert len(circles) == len(dots.strokes)      # the exporter drops one-point strokes: added back
+    w, h = (float(x) for x in root.get("viewBox").split()[2:])
+    assert all(0 <= float(c.get("cx")) <= w and 0 <= float(c.get("cy")) <= h for c in circles)
+
+
+def test_bad_requests_are_named(ext, example, tmp_path, capsys):
+    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--requests", "outlines,shading"]) == 1
+    assert "requests must be some of outlines, hatching, stipples" in capsys.readouterr().err
