@@ -1,9 +1,9 @@
 """The BlobTree node editor (Blender layer): tree, nodes, compiler, preview, menus."""
 import bpy
 
-from . import menu, nodes, preview, sockets, tree
+from . import menu, nodes, preview, settings, sockets, tree
 
-classes = (*sockets.classes, *tree.classes, *nodes.classes)
+classes = (*settings.classes, *sockets.classes, *tree.classes, *nodes.classes)
 
 
 def register():

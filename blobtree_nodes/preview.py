@@ -14,10 +14,16 @@ DELAY = 0.35                     # seconds of quiet before a rebuild
 COLLECTION = "BlobTree Ink Previews"
 
 _pending = {}                    # tree name -> monotonic time the rebuild is due
+_edits = {}                      # tree name -> number of edits seen (a running illustration stops on change)
 stats = {"rebuilds": 0}          # for tests and the UI
 
 
+def edits(tree):
+    return _edits.get(tree.name, 0)
+
+
 def schedule(tree, delay=DELAY):
+    _edits[tree.name] = _edits.get(tree.name, 0) + 1
     _pending[tree.name] = time.monotonic() + delay
     if not bpy.app.timers.is_registered(_tick):
         bpy.app.timers.register(_tick, first_interval=delay)

@@ -1,6 +1,8 @@
 """The BlobTree node tree type and its settings."""
 import bpy
 
+from .settings import BlobTreeInkSettings
+
 def _schedule(tree):
     from . import preview
     preview.schedule(tree)
@@ -25,6 +27,7 @@ class BlobTreeNodeTree(bpy.types.NodeTree):
     model_name: bpy.props.StringProperty(name="Model Name", description="The model's name in exported JSON "
                                          "(the tree's name when empty)")
     exact_iso: bpy.props.StringProperty(options={"HIDDEN"})
+    ink: bpy.props.PointerProperty(type=BlobTreeInkSettings, name="Illustration Settings")
 
     def update(self):
         # a tree is nobody's data-block user: keep it in saved files like a material

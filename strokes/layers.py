@@ -50,6 +50,8 @@ def hatching(ev, starts, start_normals, eye, light_dir, step, rng, field="dir1",
     for path, nrm in zip(res.paths, res.normals):
         shade = lighting(nrm, light_dir)
         inside = shade <= upper
+        if rules.region is not None:
+            inside &= rules.region.contains(path)
         cut = len(path) if inside.all() else int(np.argmin(inside))    # shortened where it leaves the shade
         path, nrm, shade = path[:cut], nrm[:cut], shade[:cut]
         if len(path) < 2:
@@ -62,11 +64,12 @@ def hatching(ev, starts, start_normals, eye, light_dir, step, rng, field="dir1",
 
 
 def stipples(ev, starts, start_normals, eye, light_dir, step, rng, every=3, steps=30, lower=0.2, upper=0.55,
-             radius=0.004):
+             radius=0.004, region=None):
     """One-point strokes at every ``every``-th step of wandering smarticles in shade."""
     lit = lighting(start_normals, light_dir)
     starts = np.asarray(starts)[chosen_for_shade(lit, lower, upper, rng)]
-    rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False)
+    rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False,
+                           region=region)
     res = sm.run(ev, starts, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, rng)
     dots, normals = [], []
     for path, nrm in zip(res.paths, res.normals):
@@ -77,6 +80,8 @@ def stipples(ev, starts, start_normals, eye, light_dir, step, rng, every=3, step
     D = np.concatenate(dots)
     Nn = np.concatenate(normals)
     keep = lighting(Nn, light_dir) <= upper
+    if region is not None:
+        keep &= region.contains(D)
     D, Nn = D[keep], Nn[keep]
     from .visibility import visible
     vis = visible(ev, D, eye, Nn)

@@ -1,0 +1,204 @@
+"""Illustrate: the MASSRIS agents working on the active BlobTree, as a modal operator.
+
+In the UI a timer ticks; each tick runs system iterations for a bounded slice of time
+(`slice_ms`, a tick overruns it by at most one iteration), writes the strokes found so
+far to the model's Grease Pencil object, and updates the progress bar and the status
+text. Esc or right-click stops and keeps everything made so far; the whole run is one
+undo step. Editing the tree during a run stops it. In background mode (`blender -b`)
+and from scripts without an event loop, `execute` runs the stepper to completion.
+
+Requests (MASSRIS Table 1): OUTLINES traces feature outlines; FIND_FEATURES explores a
+region for more detail (and traces what it finds); PLACE_STROKES adds hatching and/or
+stipples (the tree's settings) in a region; SINGLE_STROKE draws one smarticle stroke
+from the 3D cursor. A region is the selected objects' bounds, else a sphere around the
+3D cursor.
+"""
+import time
+
+import bpy
+from mathutils import Vector
+import numpy as np
+
+from ..agents import Region, Session, Settings
+from ..blackboard.view import View
+from ..blobtree_nodes import preview
+from ..blobtree_nodes.compile import TreeError, compile_tree
+from ..grease_pencil import render as R
+from ..grease_pencil.writer import ink_object, write
+from ..model import Evaluator
+from ..strokes import Stroke, layers as L, smarticles as sm
+from .common import context_tree
+
+REQUESTS = [("OUTLINES", "Trace Feature Outlines", "Agents find and trace silhouettes and creases"),
+            ("SINGLE_STROKE", "Create a Single Stroke", "One smarticle stroke from the 3D cursor"),
+            ("PLACE_STROKES", "Place Strokes", "Hatching and stipples in a region"),
+            ("FIND_FEATURES", "Find Features", "Explore a region for more detail")]
+last_run = {}        # figures of the latest run (module state, read by the panel and tests)
+
+
+def _eye(context, tree, ev):
+    sc = context.scene
+    if tree.ink.use_camera and sc.camera is not None:
+        return np.array(sc.camera.matrix_world.translation)
+    rv3d = getattr(context, "region_data", None)
+    if rv3d is not None and hasattr(rv3d, "view_matrix"):
+        inv = rv3d.view_matrix.inverted()
+        if rv3d.is_perspective:
+            return np.array(inv.translation)
+    centre, radius, eye = R.plan_view(ev)
+    return eye
+
+
+def _region(context, tree):
+    sel = [o for o in context.selected_objects if o.type not in ("GREASEPENCIL",)] \
+        if hasattr(context, "selected_objects") else []
+    if sel:
+        pts = np.array([o.matrix_world @ Vector(c) for o in sel for c in o.bound_box])
+        return Region(box=(pts.min(0), pts.max(0)))
+    return Region(sphere=(np.array(context.scene.cursor.location), tree.ink.region_radius))
+
+
+class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
+    """Let the agents illustrate the BlobTree (Esc or right-click stops and keeps the strokes)"""
+    bl_idname = "blobtree_ink.illustrate"
+    bl_label = "Illustrate BlobTree"
+    bl_options = {"REGISTER", "UNDO"}
+
+    tree_name: bpy.props.StringProperty(name="Tree")
+    request: bpy.props.EnumProperty(name="Request", items=REQUESTS, default="OUTLINES")
+    slice_ms: bpy.props.FloatProperty(name="Slice (ms)", default=40.0, min=5.0, max=1000.0)
+
+    # --- setting up ------------------------------------------------------------------
+    def _start(self, context):
+        self.tree = context_tree(context, self.tree_name)
+        self.tree_key = self.tree.name
+        self.model = compile_tree(self.tree)
+        self.ev = Evaluator(self.model)
+        s = self.tree.ink
+        self.eye = _eye(context, self.tree, self.ev)
+        self.session = Session(self.ev, View(eye=self.eye), Settings(resolution=s.grid_resolution,
+                                                                     agents=s.agents, lod=s.lod, seed=s.seed))
+        self.region = _region(context, self.tree) if self.request in ("PLACE_STROKES", "FIND_FEATURES") else None
+        if self.request == "FIND_FEATURES":
+            self.session.request("FIND_FEATURES", self.region)
+        self.session.request("OUTLINES")
+        self.edits0 = preview.edits(self.tree)
+        self.obj = ink_object(f"{self.model.name} Ink")
+        centre, radius, _ = R.plan_view(self.ev)
+        self.line_radius = 0.0025 * radius
+        self.tasks0 = max(self.session.tasks_left, 1)
+        self.t_start = time.perf_counter()
+        last_run.clear()
+        last_run.update(iterations=0, ticks=0, max_tick_ms=0.0, state="running", tree=self.tree_key)
+
+    def _write(self, final=False):
+        strokes = R.stroke_set(self.session, self.ev, self.eye, self.line_radius)
+        if final and self.request == "PLACE_STROKES":
+            self._place_strokes(strokes)
+        if final and self.request == "SINGLE_STROKE":
+            self._single_stroke(strokes)
+        write(self.obj, strokes, frame=bpy.context.scene.frame_current)
+        last_run["strokes"] = strokes.count()
+
+    def _place_strokes(self, strokes):
+        s = self.tree.ink
+        inside = self.region.contains(self.session.mesh.vertices)
+        V, N = self.session.mesh.vertices[inside], self.session.vertex_normals[inside]
+        rng = np.random.default_rng(s.seed)
+        light = R.default_light(0.5 * np.add(*self.ev.bounds), self.eye)
+        step = 0.3 * self.session.h
+        if s.hatching or not s.stipples:
+            for st in L.hatching(self.ev, V, N, self.eye, light, step, rng, radius=0.6 * self.line_radius,
+                                 rules=sm.StrokeRules(max_steps=10, region=self.region)):
+                strokes.add("Hatching", st)
+        if s.stipples:
+            for st in L.stipples(self.ev, V, N, self.eye, light, 0.5 * step, rng, radius=1.2 * self.line_radius,
+                                 region=self.region):
+                strokes.add("Stipples", st)
+
+    def _single_stroke(self, strokes):
+        cursor = np.array(bpy.context.scene.cursor.location)[None]
+        P, f, g = self.session.surface.project(cursor)
+        if abs(f[0] - self.ev.iso) > 1e-6:
+            self.report({"WARNING"}, "the 3D cursor is not near the surface: no stroke")
+            return
+        res = sm.run(self.ev, P, L.direction_field("dir1"), 0.3 * self.session.h, sm.PRESETS["hatching"],
+                     sm.StrokeRules(max_steps=60, stop_on_curvature_sign=False), np.random.default_rng(0))
+        p = res.paths[0]
+        if len(p) >= 2:
+            strokes.add("Strokes", Stroke(p, np.full(len(p), self.line_radius), np.ones(len(p))))
+
+    def _figures(self):
+        pr = self.session.progress()
+        last_run.update(iterations=pr["iterations"], tasks_left=pr["tasks_left"],
+                        outline_length=pr["outline_length"])
+        return pr
+
+    # --- running -----------------------------------------------------------------------
+    def execute(self, context):
+        try:
+            self._start(context)
+        except (LookupError, TreeError, ValueError) as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        self.session.run()
+        self._figures()
+        self._write(final=True)
+        last_run["state"] = "done"
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        try:
+            self._start(context)
+        except (LookupError, TreeError, ValueError) as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        wm = context.window_manager
+        self.timer = wm.event_timer_add(0.05, window=context.window)
+        wm.progress_begin(0, 100)
+        wm.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            return self._finish(context, "stopped")
+        if event.type != "TIMER" or event.timer is not self.timer:
+            return {"PASS_THROUGH"}
+        tree = bpy.data.node_groups.get(self.tree_key)
+        if tree is None or preview.edits(tree) != self.edits0:
+            self.report({"WARNING"}, "the BlobTree changed: illustration stopped")
+            return self._finish(context, "tree edited")
+        t0 = time.perf_counter()
+        budget = self.slice_ms / 1000.0
+        while not self.session.done and time.perf_counter() - t0 < budget:
+            self.session.step()
+        pr = self._figures()
+        self._write(final=self.session.done)
+        tick_ms = 1000 * (time.perf_counter() - t0)
+        last_run["ticks"] += 1
+        last_run["max_tick_ms"] = max(last_run["max_tick_ms"], tick_ms)
+        done = 100.0 * (1.0 - pr["tasks_left"] / max(self.tasks0, pr["tasks_left"], 1))
+        context.window_manager.progress_update(done)
+        context.workspace.status_text_set(
+            f"BlobTree Ink: iteration {pr['iterations']}, tasks left {pr['tasks_left']}, "
+            f"outline length {pr['outline_length']:.3g}  (Esc: stop and keep)")
+        if self.session.done:
+            return self._finish(context, "done")
+        return {"RUNNING_MODAL"}
+
+    def _finish(self, context, state):
+        wm = context.window_manager
+        wm.event_timer_remove(self.timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+        self._figures()
+        self._write(final=state == "done")
+        last_run["state"] = state
+        self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes after "
+                              f"{last_run['iterations']} iterations")
+        return {"FINISHED"}          # keep what was made, as one undo step
+
+
+classes = (BLOBTREE_INK_OT_illustrate,)

@@ -1,0 +1,67 @@
+"""The Illustrate operator in background mode (execute runs the stepper to the end)."""
+import bpy
+import numpy as np
+import pytest
+
+
+def ink(name):
+    obj = bpy.data.objects.get(f"{name} Ink")
+    assert obj is not None and obj.type == "GREASEPENCIL"
+    return {l.name: (list(l.frames[0].drawing.strokes) if len(l.frames) else []) for l in obj.data.layers}
+
+
+def test_trace_outlines_writes_the_strokes(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree = bpy.data.node_groups["pear"]
+    tree.ink.grid_resolution = 12
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
+    layers = ink("pear")
+    assert len(layers["Silhouette"]) >= 1 and len(layers["Crease"]) >= 1
+    # INVOKE_DEFAULT in background runs execute; running again keeps one object
+    assert bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="pear") == {"FINISHED"}
+    assert len([o for o in bpy.data.objects if o.type == "GREASEPENCIL"]) == 1
+    from importlib import import_module
+    run = import_module("bl_ext.user_default.blobtree_ink.operators.illustrate").last_run
+    assert run["state"] == "done" and run["tasks_left"] == 0 and run["iterations"] > 0
+
+
+def test_place_strokes_stay_in_the_region_around_the_cursor(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree = bpy.data.node_groups["pear"]
+    tree.ink.grid_resolution = 12
+    tree.ink.hatching = True
+    tree.ink.stipples = True
+    tree.ink.region_radius = 0.5
+    bpy.context.scene.cursor.location = (-0.6, -0.5, -0.2)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    layers = ink("pear")
+    placed = layers["Hatching"] + layers["Stipples"]
+    assert placed
+    centre = np.array(bpy.context.scene.cursor.location)
+    for s in placed:
+        pts = np.array([p.position for p in s.points])
+        assert np.linalg.norm(pts - centre, axis=1).max() <= 0.5 + 1e-5
+
+
+def test_single_stroke_from_the_cursor(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
+    r = 0.4543
+    bpy.context.scene.cursor.location = (0.0, -r, 0.0)
+    bpy.data.node_groups["sphere"].ink.grid_resolution = 10
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="SINGLE_STROKE") == {"FINISHED"}
+    strokes = ink("sphere")["Strokes"]
+    assert len(strokes) == 1 and len(strokes[0].points) > 5
+    pts = np.array([p.position for p in strokes[0].points])
+    assert np.abs(np.linalg.norm(pts, axis=1) - r).max() < 1e-3
+
+
+def test_a_broken_tree_is_reported_and_nothing_is_drawn(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree = bpy.data.node_groups["pear"]
+    belly = [n for n in tree.nodes if n.label == "belly"][0]
+    belly.radius = 0.0
+    with pytest.raises(RuntimeError, match="Radius must be > 0"):
+        bpy.ops.blobtree_ink.illustrate(tree_name="pear")
+    assert not [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
+    with pytest.raises(RuntimeError, match="no BlobTree node tree named 'nope'"):
+        bpy.ops.blobtree_ink.illustrate(tree_name="nope")
