@@ -26,7 +26,7 @@ from ..blobtree_nodes.compile import TreeError, compile_tree
 from ..grease_pencil import render as R
 from ..grease_pencil.writer import ink_object, write
 from ..model import Evaluator
-from ..strokes import Stroke, layers as L, smarticles as sm
+from ..strokes import Stroke, StrokeSet, layers as L, smarticles as sm
 from .common import context_tree
 
 REQUESTS = [("OUTLINES", "Trace Feature Outlines", "Agents find and trace silhouettes and creases"),
@@ -92,7 +92,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         last_run.update(iterations=0, ticks=0, max_tick_ms=0.0, state="running", tree=self.tree_key)
 
     def _write(self, final=False):
-        strokes = R.stroke_set(self.session, self.ev, self.eye, self.line_radius)
+        if final:
+            strokes = R.stroke_set(self.session, self.ev, self.eye, self.line_radius)
+        else:                # while running: the outlines as traced (hidden lines go at the end)
+            strokes = StrokeSet.from_outlines(self.session.outlines(), self.line_radius)
         if final and self.request == "PLACE_STROKES":
             self._place_strokes(strokes)
         if final and self.request == "SINGLE_STROKE":
@@ -164,7 +167,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     def modal(self, context, event):
         if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
             return self._finish(context, "stopped")
-        if event.type != "TIMER" or event.timer is not self.timer:
+        if event.type != "TIMER":
             return {"PASS_THROUGH"}
         tree = bpy.data.node_groups.get(self.tree_key)
         if tree is None or preview.edits(tree) != self.edits0:

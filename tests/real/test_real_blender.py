@@ -71,3 +71,27 @@ def test_ui_smoke_shows_an_imported_tree_and_its_preview(user_dir, tmp_path):
     # not blank: Blender's UI has many distinct colours and real contrast
     assert img.std() > 10
     assert len(np.unique(img.reshape(-1, 3), axis=0)) > 50
+
+
+def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tmp_path):
+    out = str(tmp_path / "ui")
+    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
+                "--script", os.path.join(REPO, "tests", "real", "ui", "illustrate.py"),
+                "--out", out, "--user", user_dir, timeout=300)
+    facts = json.load(open(os.path.join(out, "facts.json")))
+    print("real-UI illustrate:", json.dumps(facts))
+    assert facts["invoke_result"] == ["RUNNING_MODAL"]           # a modal run, not execute
+    assert facts["running_state"] == "running" and facts["strokes_while_running"] > 0
+    assert facts["stopped_state"] == "stopped"                  # Esc reached the operator
+    assert facts["strokes_after_esc"] >= facts["strokes_while_running"]   # what was made stays
+    assert facts["tasks_left_at_stop"] > 0                      # it really was stopped mid-run
+    # the UI kept processing events: another timer fired throughout the run
+    assert facts["other_timer_ticks"] >= 3 and facts["other_timer_max_gap"] < 5.0
+    # one undo removes the whole run, and only the run
+    assert facts["strokes_after_undo"] == 0 and facts["ink_object_after_undo"] is False
+    assert facts["tree_after_undo"] is True
+    for name in ("illustrate_running.png", "illustrate_stopped.png"):
+        png = artifact(name)
+        shutil.copy(os.path.join(out, name), png)
+        img = read_png(png)
+        assert img.std() > 10 and len(np.unique(img.reshape(-1, 3), axis=0)) > 50

@@ -1,0 +1,87 @@
+"""Real-UI test script: import the heart, start Illustrate the way a user does (invoke
+with an event loop), check that another timer keeps ticking, take a screenshot while
+it runs, press Esc through xdotool, check the strokes stay, screenshot, then undo once
+and check the run is gone."""
+import os
+import sys
+import time
+
+import addon_utils
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from uistep import Steps, record  # noqa: E402
+
+EXT = "bl_ext.user_default.blobtree_ink"
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+ticks = []
+
+
+def other_timer():
+    ticks.append(time.monotonic())
+    return 0.1
+
+
+def strokes_of(name):
+    obj = bpy.data.objects.get(name)
+    if obj is None or obj.type != "GREASEPENCIL":
+        return 0
+    return sum(len(l.frames[0].drawing.strokes) for l in obj.data.layers if len(l.frames))
+
+
+def run():
+    yield 1.0
+    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
+    addon_utils.enable(EXT, default_set=True)
+    win = bpy.context.window_manager.windows[0]
+    for obj in list(bpy.data.objects):
+        if obj.type == "MESH":
+            bpy.data.objects.remove(obj)
+    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    region = [r for r in view3d.regions if r.type == "WINDOW"][0]
+    with bpy.context.temp_override(window=win, area=view3d, region=region):
+        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "heart.json"), preview=False)
+    bpy.ops.ed.undo_push(message="imported")
+    tree = bpy.data.node_groups["heart"]
+    tree.ink.grid_resolution = 20
+    ill = sys.modules[EXT + ".operators.illustrate"]
+    yield 0.5
+    bpy.app.timers.register(other_timer, first_interval=0.1)
+    started = time.monotonic()
+    with bpy.context.temp_override(window=win, area=view3d, region=region):
+        res = bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES", slice_ms=20)
+    record(invoke_result=sorted(res), state_after_invoke=ill.last_run.get("state"))
+    yield 1.5
+    ink = bpy.data.objects.get("heart Ink")
+    if ink is not None:                      # frame the drawing as an artist would
+        for o in bpy.context.view_layer.objects:
+            o.select_set(o == ink)
+        with bpy.context.temp_override(window=win, area=view3d, region=region):
+            bpy.ops.view3d.view_selected()
+    yield 1.0
+    running = dict(ill.last_run)
+    n_running = strokes_of("heart Ink")
+    yield {"action": "screenshot", "name": "illustrate_running.png"}
+    yield {"action": "key", "keys": ["Escape"], "pause": 0.5}
+    yield 0.5
+    stopped = dict(ill.last_run)
+    n_after = strokes_of("heart Ink")
+    gaps = [b - a for a, b in zip(ticks, ticks[1:]) if a >= started]
+    bpy.app.timers.unregister(other_timer)
+    yield {"action": "screenshot", "name": "illustrate_stopped.png"}
+    with bpy.context.temp_override(window=win, area=view3d, region=region):
+        bpy.ops.ed.undo()
+    yield 0.5
+    record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
+           strokes_while_running=n_running, stopped_state=stopped.get("state"),
+           strokes_after_esc=n_after, iterations_at_stop=stopped.get("iterations", 0),
+           tasks_left_at_stop=stopped.get("tasks_left"), max_tick_ms=stopped.get("max_tick_ms"),
+           ticks=stopped.get("ticks"), other_timer_ticks=len(gaps) + 1,
+           other_timer_median_gap=sorted(gaps)[len(gaps) // 2] if gaps else None,
+           other_timer_max_gap=max(gaps) if gaps else None,
+           strokes_after_undo=strokes_of("heart Ink"),
+           ink_object_after_undo=bpy.data.objects.get("heart Ink") is not None,
+           tree_after_undo="heart" in bpy.data.node_groups)
+
+
+Steps(run())
