@@ -72,17 +72,7 @@ class Evaluator:
 
 def evaluate(node, P, need_grad, prune=True, stats=None):
     """Field (n,) and gradient (3, n) of a plan node at P (3, n), as dense arrays."""
-    idx, f, g = _sparse(node, P, need_grad, prune, stats, None)
-    if idx is None:
-        return f, g
-    n = P.shape[1]
-    F = np.zeros(n)
-    F[idx] = f
-    G = None
-    if need_grad:
-        G = np.zeros((3, n))
-        G[:, idx] = g
-    return F, G
+    return _dense(_sparse(node, P, need_grad, prune, stats, None), P.shape[1], need_grad)
 
 
 def _box(P):
