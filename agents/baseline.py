@@ -75,9 +75,10 @@ class Baseline:
             del prev_in
         return np.concatenate(hits)[:n] if hits else np.zeros((0, 3))
 
-    def step(self):
+    def step(self, budget=None):
         """One particle iteration: repel, re-attract, look for straddled outlines and
-        trace each to completion."""
+        trace each to completion (finds beyond the time budget wait for the next step)."""
+        self.deadline = None if budget is None else time.perf_counter() + budget
         P = self.P
         if len(P) == 0:
             self.iteration += 1

@@ -162,7 +162,7 @@ def main():
             return s
         mas = curve(gt, make_massris, lambda s: (s.run(seconds=0.05), not s.done)[1],
                     lambda s: s.outlines(), a.limit)
-        base = curve(gt, lambda: Baseline(model, view, particles=1000), lambda b: b.step(),
+        base = curve(gt, lambda: Baseline(model, view, particles=1000), lambda b: b.step(budget=2.0),
                      lambda b: b.outlines(), a.limit)
         tm, tb = t95(mas), t95(base)
         ratio = f"{tb / tm:.1f}x" if tm and tb else "-"
