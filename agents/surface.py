@@ -32,7 +32,7 @@ class Surface:
         f, g = self.ev.field_grad(P)
         for _ in range(steps):
             gg = np.einsum("ij,ij->i", g, g)
-            ok = (gg > 1e-300) & (np.abs(f - self.iso) > 1e-15)
+            ok = (gg > 1e-300) & (np.abs(f - self.iso) > 1e-14 * max(1.0, self.iso))
             if not ok.any():
                 break
             d = np.zeros_like(P)
@@ -101,6 +101,16 @@ class Surface:
             u = np.clip(u, 0.02, 0.98)
             M, fM, gM = self.project(A[live] + u[:, None] * (B[live] - A[live]), steps=4)
             sM = self.signs(kinds[live], M, gM, ref[live])
+            # a smooth crossing is found when its signed quantity vanishes (to 1e-11;
+            # n.v is a cosine, mean curvature is scaled by the model's size)
+            hit = ~jump[live] & (np.abs(sM) * np.where(kinds[live] == CURV, self.scale, 1.0) < 1e-11)
+            if hit.any():
+                ih = live[hit]
+                A[ih], gA[ih], B[ih], gB[ih] = M[hit], gM[hit], M[hit], gM[hit]
+                keep = ~hit
+                live, M, gM, sM = live[keep], M[keep], gM[keep], sM[keep]
+                if len(live) == 0:
+                    break
             sideA = (sM > 0) == (sA[live] > 0)
             ia, ib = live[sideA], live[~sideA]
             A[ia], gA[ia], sA[ia] = M[sideA], gM[sideA], sM[sideA]

@@ -19,7 +19,7 @@ SMALL_DENSE = 2048           # a small batch tests every member: cheaper than th
 class Group:
     def __init__(self, prims, reduce="sum", n=1.0, use_grid=True):
         self.prm = PR.pack(prims)
-        self.source = prims[0] if len(prims) == 1 else None   # lets plans merge groups
+        self.sources = tuple(prims)          # lets plans merge groups
         self.kind = self.prm["kind"]
         self.m = len(prims)
         self.reduce = reduce

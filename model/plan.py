@@ -139,20 +139,21 @@ class _Builder:
 
     @staticmethod
     def _group(op, n, kids):
+        """Pool the primitives of an n-ary node's groups by kind into one group each:
+        sums of sums (blend), maxima of non-negative maxima (union), Ricci sums with
+        the same exponent."""
         if op not in _REDUCE:
             return kids
         reduce = _REDUCE[op]
         by_kind, rest = {}, []
         for k in kids:
-            plain = isinstance(k, Group) and k.m == 1 and k.reduce == "sum"
-            if plain and (reduce == "sum" or k.prm["S"][0] >= 0):
-                by_kind.setdefault(k.kind, []).append(k)
+            same = isinstance(k, Group) and (k.reduce == reduce and (reduce != "ricci" or k.n == n)
+                                             or k.m == 1 and k.reduce == "sum")
+            if same and (reduce == "sum" or float(k.prm["S"].min()) >= 0):
+                by_kind.setdefault(k.kind, []).extend(k.sources)
             else:
                 rest.append(k)
-        groups = []
-        for kind, members in by_kind.items():
-            prims = [g.source for g in members]
-            groups.append(Group(prims, reduce=reduce, n=n))
+        groups = [Group(prims, reduce=reduce, n=n) for prims in by_kind.values()]
         return groups + rest
 
 
