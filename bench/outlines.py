@@ -56,18 +56,23 @@ class Camera:
 
 
 def raster(cam, polylines):
+    """Pixels the polylines pass through (segments sampled every quarter pixel, vectorised)."""
     img = np.zeros((PX, PX), bool)
+    segs = []
     for P in polylines:
-        if len(P) == 1:
-            P = np.vstack([P, P])
-        q = cam.pixels(P)
-        seg = np.linalg.norm(np.diff(q, axis=0), axis=1)
-        for a, b, L in zip(q[:-1], q[1:], seg):
-            t = np.linspace(0, 1, max(2, int(4 * L) + 2))
-            pts = a + t[:, None] * (b - a)
-            ij = np.round(pts).astype(int)
-            ok = (ij[:, 0] >= 0) & (ij[:, 0] < PX) & (ij[:, 1] >= 0) & (ij[:, 1] < PX)
-            img[ij[ok, 1], ij[ok, 0]] = True
+        q = cam.pixels(np.vstack([P, P]) if len(P) == 1 else P)
+        segs.append(np.stack([q[:-1], q[1:]], axis=1))
+    if not segs:
+        return img
+    S = np.concatenate(segs)                                    # (m, 2, 2)
+    L = np.linalg.norm(S[:, 1] - S[:, 0], axis=1)
+    k = np.maximum(2, (4 * L).astype(int) + 2)
+    seg = np.repeat(np.arange(len(S)), k)
+    t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k - 1, k)
+    pts = S[seg, 0] + t[:, None] * (S[seg, 1] - S[seg, 0])
+    ij = np.round(pts).astype(int)
+    ok = (ij[:, 0] >= 0) & (ij[:, 0] < PX) & (ij[:, 1] >= 0) & (ij[:, 1] < PX)
+    img[ij[ok, 1], ij[ok, 0]] = True
     return img
 
 
