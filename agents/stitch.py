@@ -2,12 +2,15 @@
 
 Agents trace one curve from several seeds at once and stop where they meet another's
 trace, so a curve arrives in pieces that meet head to head, sometimes overlapping by a
-step. All points of one kind are pooled, points closer than a third of a step merged,
-and polylines are chained greedily: from a chain's end to the nearest unused point
-within ``link`` that continues forward (positive dot product with the current
-direction), then the same from the chain's other end. A chain whose ends meet is closed.
+step. All points of one kind are pooled (points sharing a cell an eighth of a link wide
+are merged), and polylines are chained greedily through a spatial hash: from a chain's
+end to the nearest unused point within ``link`` that continues forward (positive dot
+product with the current direction), then the same from the chain's other end. A chain
+whose ends meet is closed.
 """
 import numpy as np
+
+_OFFSETS = [(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)]
 
 
 def stitch(outlines, link, make):
@@ -18,12 +21,15 @@ def stitch(outlines, link, make):
         P = np.concatenate([o.points for o in mine])
         N = np.concatenate([o.normals for o in mine])
         P, N = _merge_close(P, N, link / 8.0)
+        grid = _Grid(P, link)
         used = np.zeros(len(P), bool)
-        while not used.all():
-            start = int(np.flatnonzero(~used)[0])
+        for start in range(len(P)):
+            if used[start]:
+                continue
             used[start] = True
-            fwd = _walk(P, used, [start], link)
-            bwd = _walk(P, used, [start] + fwd[:1], link, reverse_seed=True)
+            grid.remove(start)
+            fwd = _walk(P, grid, used, start, None, link)
+            bwd = _walk(P, grid, used, start, fwd[0] if fwd else None, link, away=True)
             idx = bwd[::-1] + [start] + fwd
             if len(idx) < 2:
                 continue
@@ -33,36 +39,55 @@ def stitch(outlines, link, make):
 
 
 def _merge_close(P, N, r):
-    keep = np.ones(len(P), bool)
-    for i in range(len(P)):
-        if keep[i]:
-            d = np.linalg.norm(P[i + 1:] - P[i], axis=1)
-            keep[i + 1:][d < r] = False
+    """Keep the first point of each cell of size r (order preserved)."""
+    keys = np.floor(P / r).astype(np.int64)
+    _, first = np.unique(keys, axis=0, return_index=True)
+    keep = np.sort(first)
     return P[keep], N[keep]
 
 
-def _walk(P, used, seed, link, reverse_seed=False):
-    """Extend from seed[-1] (or, reversed, away from seed[1]) until no point continues."""
+class _Grid:
+    def __init__(self, P, cell):
+        self.cell = cell
+        self.cells = {}
+        keys = np.floor(P / cell).astype(np.int64)
+        self.keys = [tuple(k) for k in keys.tolist()]
+        for i, k in enumerate(self.keys):
+            self.cells.setdefault(k, set()).add(i)
+
+    def remove(self, i):
+        self.cells[self.keys[i]].discard(i)
+
+    def near(self, i):
+        x, y, z = self.keys[i]
+        out = []
+        for dx, dy, dz in _OFFSETS:
+            s = self.cells.get((x + dx, y + dy, z + dz))
+            if s:
+                out.extend(s)
+        return out
+
+
+def _walk(P, grid, used, start, neighbour, link, away=False):
+    """Extend a chain from ``start``; with ``away``, leave in the direction opposite to
+    ``neighbour`` (the chain's other side)."""
     chain = []
-    cur = seed[0]
-    prev = None
-    if reverse_seed and len(seed) > 1:
-        prev = seed[1]
-    elif not reverse_seed and len(seed) > 1:
-        prev = seed[-2]
+    cur = start
+    prev = neighbour if away else None
     while True:
-        free = np.flatnonzero(~used)
-        if len(free) == 0:
+        cand = grid.near(cur)
+        if not cand:
             break
-        d = np.linalg.norm(P[free] - P[cur], axis=1)
+        cand = np.array(cand)
+        d = np.linalg.norm(P[cand] - P[cur], axis=1)
         ok = d < link
         if prev is not None:
-            direction = P[cur] - P[prev]
-            ok &= (P[free] - P[cur]) @ direction > 0
+            ok &= (P[cand] - P[cur]) @ (P[cur] - P[prev]) > 0
         if not ok.any():
             break
-        j = int(free[ok][np.argmin(d[ok])])
+        j = int(cand[ok][np.argmin(d[ok])])
         used[j] = True
+        grid.remove(j)
         chain.append(j)
         prev, cur = cur, j
     return chain
