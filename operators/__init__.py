@@ -1,10 +1,10 @@
 """Operators (Blender layer), one per file."""
 import bpy
 
-from . import export_json, illustrate, import_json, panels, rebuild_preview
+from . import apply_preset, export_json, illustrate, import_json, panels, rebuild_preview
 
 classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes, *illustrate.classes,
-           *panels.classes)
+           *apply_preset.classes, *panels.classes)
 
 
 def register():

@@ -2,6 +2,7 @@
 figures and the Grease Pencil layers' visibility."""
 import bpy
 
+from ..blobtree_nodes.settings import PRESETS
 from .common import blobtrees
 from .illustrate import REQUESTS, last_run
 
@@ -16,6 +17,11 @@ def _draw(layout, context, trees):
             op.tree_name = tree.name
             op.request = ident
         s = tree.ink
+        row = box.row(align=True)
+        for key in PRESETS:
+            op = row.operator("blobtree_ink.apply_preset", text=key.title())
+            op.tree_name = tree.name
+            op.preset = key
         col = box.column(align=True)
         col.prop(s, "grid_resolution")
         col.prop(s, "agents")

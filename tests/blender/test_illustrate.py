@@ -65,3 +65,12 @@ def test_a_broken_tree_is_reported_and_nothing_is_drawn(example):
     assert not [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
     with pytest.raises(RuntimeError, match="no BlobTree node tree named 'nope'"):
         bpy.ops.blobtree_ink.illustrate(tree_name="nope")
+
+
+def test_presets_set_the_tree_settings(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
+    tree = bpy.data.node_groups["sphere"]
+    assert bpy.ops.blobtree_ink.apply_preset(tree_name="sphere", preset="STIPPLED") == {"FINISHED"}
+    assert tree.ink.stipples and not tree.ink.hatching
+    assert bpy.ops.blobtree_ink.apply_preset(tree_name="sphere", preset="HATCHED") == {"FINISHED"}
+    assert tree.ink.hatching and not tree.ink.stipples and tree.ink.grid_resolution == 20

@@ -72,16 +72,26 @@ def run():
     with bpy.context.temp_override(window=win, area=view3d, region=region):
         bpy.ops.ed.undo()
     yield 0.5
+    record(strokes_after_undo=strokes_of("heart Ink"),
+           ink_object_after_undo=bpy.data.objects.get("heart Ink") is not None,
+           tree_after_undo="heart" in bpy.data.node_groups)
+    # a second run, stopped by editing the tree
+    with bpy.context.temp_override(window=win, area=view3d, region=region):
+        bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES", slice_ms=20)
+    yield 1.5
+    tree = bpy.data.node_groups["heart"]            # undo replaced the data: fetch it again
+    node = [n for n in tree.nodes if getattr(n, "kind", "") == "point"][0]
+    node.radius = node.radius * 1.01
+    yield 1.5
+    edited = dict(ill.last_run)
+    record(edited_state=edited.get("state"))
     record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
            strokes_while_running=n_running, stopped_state=stopped.get("state"),
            strokes_after_esc=n_after, iterations_at_stop=stopped.get("iterations", 0),
            tasks_left_at_stop=stopped.get("tasks_left"), max_tick_ms=stopped.get("max_tick_ms"),
            ticks=stopped.get("ticks"), other_timer_ticks=len(gaps) + 1,
            other_timer_median_gap=sorted(gaps)[len(gaps) // 2] if gaps else None,
-           other_timer_max_gap=max(gaps) if gaps else None,
-           strokes_after_undo=strokes_of("heart Ink"),
-           ink_object_after_undo=bpy.data.objects.get("heart Ink") is not None,
-           tree_after_undo="heart" in bpy.data.node_groups)
+           other_timer_max_gap=max(gaps) if gaps else None)
 
 
 Steps(run())
