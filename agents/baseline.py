@@ -142,6 +142,8 @@ class Baseline:
             p, t, r, h = X[0], direction * T[0], ref[0], self.step_len
             line, lnrm = [], []
             for _ in range(20000):
+                if getattr(self, "deadline", None) is not None and time.perf_counter() > self.deadline:
+                    break            # out of this step's time: keep what was traced
                 x, nn, tn, rn, _, _, ok = trace_step(self.surface, kinds, p[None], t[None], r[None], np.array([h]),
                                                      self.tol, self.crease_angle)
                 if not ok[0]:
