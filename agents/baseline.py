@@ -36,6 +36,7 @@ class Baseline:
         self.step_len = step if step is not None else 0.3 * self.sigma
         self.tol = 1e-8 * self.ev.scale
         self.iteration = 0
+        self.deadline = None
         self.found = []
         self.traced_pts = {k: np.zeros((0, 3)) for k in range(len(FEATURE_KINDS))}
         self.rejected = {k: np.zeros((0, 3)) for k in range(len(FEATURE_KINDS))}   # false alarms
@@ -117,6 +118,8 @@ class Baseline:
             m = ang > self.crease_angle
             seeds += [(KIND_ID["crease"], a, b) for a, b in zip(i[m], j[m])]
         for k, a, b in seeds:
+            if self.deadline is not None and time.perf_counter() > self.deadline:
+                break            # out of this step's time: the other finds wait for the next step
             mid = 0.5 * (P[a] + P[b])
             if self._near(k, mid, 1.5 * self.sigma):
                 continue
@@ -142,7 +145,7 @@ class Baseline:
             p, t, r, h = X[0], direction * T[0], ref[0], self.step_len
             line, lnrm = [], []
             for _ in range(20000):
-                if getattr(self, "deadline", None) is not None and time.perf_counter() > self.deadline:
+                if self.deadline is not None and time.perf_counter() > self.deadline:
                     break            # out of this step's time: keep what was traced
                 x, nn, tn, rn, _, _, ok = trace_step(self.surface, kinds, p[None], t[None], r[None], np.array([h]),
                                                      self.tol, self.crease_angle)
