@@ -82,7 +82,10 @@ def run():
     tree = bpy.data.node_groups["heart"]            # undo replaced the data: fetch it again
     node = [n for n in tree.nodes if getattr(n, "kind", "") == "point"][0]
     node.radius = node.radius * 1.01
-    yield 1.5
+    for _ in range(20):                    # the next tick notices (an iteration can take a second)
+        if ill.last_run.get("state") != "running":
+            break
+        yield 0.25
     edited = dict(ill.last_run)
     record(edited_state=edited.get("state"))
     record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
