@@ -10,6 +10,7 @@ import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS
 from ..model.curvature import curvature
+from ..strokes import steering as st
 
 
 @dataclass
@@ -50,19 +51,18 @@ def step(session):
     D = np.array([e.d for e in ex])
     C = np.array([e.centre for e in ex])
     N = np.array([e.n for e in ex])
-    # wander: a small random change of heading, kept in the tangent plane; containment:
-    # seek the voxel centre when further than a voxel from it
-    jitter = s.rng.normal(scale=0.6, size=D.shape)
-    D = D + jitter
+    # wander (the steering behaviour of the stroke smarticles); containment: seek the
+    # voxel centre when further than a voxel from it
+    D = st.wander(D, N, s.rng, jitter=0.6)
     away = np.linalg.norm(P - C, axis=1) > s.h
-    D[away] += 2.0 * (C[away] - P[away]) / s.h
-    D -= np.einsum("ij,ij->i", D, N)[:, None] * N
-    D /= np.maximum(np.linalg.norm(D, axis=1, keepdims=True), 1e-300)
+    D[away] += 2.0 * np.linalg.norm(C[away] - P[away], axis=1)[:, None] / s.h * st.seek(P[away], C[away])
+    D = st.unit(st.tangent(D, N))
     Q, f, g = s.surface.project(P + 0.35 * s.h * D)
     n = s.surface.normals(g)
     sil = np.einsum("ij,ij->i", n, s.view.towards_eye(Q))
-    curv = curvature(s.ev, Q, g)["mean"]
-    rows = s.bb.add_samples(Q, f, g, "path", curvature(s.ev, Q, g))
+    cq = curvature(s.ev, Q, g)
+    curv = cq["mean"]
+    rows = s.bb.add_samples(Q, f, g, "path", cq)
     found = {k: [] for k in FEATURE_KINDS}
     kinds = set(s.settings.kinds)
     keep = []

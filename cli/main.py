@@ -15,6 +15,7 @@ import tempfile
 import numpy as np
 
 from .. import model as M
+from ..blackboard.polygonise import surface_box
 
 
 class CliError(Exception):
@@ -55,24 +56,6 @@ def _load_model(path):
         raise CliError(str(e)) from None
 
 
-def surface_bounds(ev, res=64):
-    """Bounds of the solid f >= iso, from a res^3 grid padded by one cell."""
-    lo, hi = ev.bounds
-    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi > lo)):
-        return None
-    axes = [np.linspace(lo[i], hi[i], res) for i in range(3)]
-    X, Y, Z = np.meshgrid(*axes, indexing="ij")
-    P = np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)
-    inside = (ev.field(P) >= ev.iso).reshape(res, res, res)
-    if not inside.any():
-        return None
-    cell = (hi - lo) / (res - 1)
-    idx = [np.flatnonzero(inside.any(axis=tuple(j for j in range(3) if j != i))) for i in range(3)]
-    slo = np.array([axes[i][idx[i][0]] for i in range(3)]) - cell
-    shi = np.array([axes[i][idx[i][-1]] for i in range(3)]) + cell
-    return np.maximum(slo, lo), np.minimum(shi, hi)
-
-
 def cmd_info(args, out):
     model = _load_model(args.model)
     ev = M.Evaluator(model)
@@ -81,7 +64,7 @@ def cmd_info(args, out):
     out.write(f"nodes: {M.count_nodes(model)}\n")
     out.write(f"iso: {model.iso:g}\n")
     out.write(f"support bounds: {_fmt(lo)} .. {_fmt(hi)}\n")
-    sb = surface_bounds(ev)
+    sb = surface_box(ev, res=64, pad_cells=1.0)
     if sb is None:
         out.write("surface bounds: none (the field never reaches iso)\n")
     else:

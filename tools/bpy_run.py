@@ -20,7 +20,7 @@ def main():
     import importlib
     marker = os.path.join(os.environ["BLENDER_USER_RESOURCES"], "blobtree_ink.stamp")
     have = open(marker).read() if os.path.exists(marker) else ""
-    if have != stamp or not zip_path == "-" and not _installed():
+    if have != stamp or not _installed():
         res = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
                                                       enable_on_install=True)
         if res != {"FINISHED"}:
