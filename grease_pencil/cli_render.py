@@ -1,34 +1,107 @@
 """The `render` subcommand of the command line (Blender layer: it needs bpy)."""
 from ..model import ModelError, load
+from ..strokes import layers as L
+from ..strokes import smarticles as sm
+from ..strokes import style as ST
 
 
 def add_parser(sub):
     p = sub.add_parser("render", help="illustrate a model: DIR/NAME.png, .blend and .svg")
     p.add_argument("model", help="blobtree-1 JSON file")
-    p.add_argument("--out", required=True, help="output directory (must exist)")
+    p.add_argument("--out", required=True, help="output directory (created if its parent exists)")
     p.add_argument("--size", type=int, default=1024, help="image size in pixels (default 1024)")
     p.add_argument("--grid", type=int, default=20, help="blackboard grid resolution, 8-128 (default 20)")
     p.add_argument("--agents", type=int, default=32, help="number of agents, stepped together (default 32)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--azimuth", type=float, default=35.0, help="camera azimuth in degrees from the front")
     p.add_argument("--elevation", type=float, default=25.0, help="camera elevation in degrees")
-    p.add_argument("--requests", default="outlines",
-                   help="what to draw, comma-separated: outlines, hatching, stipples (default outlines)")
+    p.add_argument("--light", default=None, help="direction towards the light, x,y,z (write --light=-1,0,1 "
+                   "for a leading minus; default: the viewer's upper left)")
     p.add_argument("--seconds", type=float, default=None, help="time budget for the agents")
+    g = p.add_argument_group("style")
+    g.add_argument("--style", default="outlines", choices=tuple(ST.STYLES),
+                   help="a look of the papers' figures (default outlines); the options below change it")
+    g.add_argument("--requests", default=None,
+                   help="layers to draw, comma-separated, replacing the style's: " + ", ".join(ST.LAYER_SWITCHES))
+    g.add_argument("--field", choices=L.FIELDS, default=None, help="flow field of hatching and short strokes")
+    g.add_argument("--axis", default=None, help="x,y,z of the axis flow field")
+    g.add_argument("--weights", default=None,
+                   help=f"steering weights: a preset ({', '.join(sm.PRESETS)}) or name=value pairs, "
+                   f"e.g. flow=1,separation=0.5 (behaviours: {', '.join(ST.WEIGHT_NAMES)})")
+    g.add_argument("--flock-size", type=int, default=None, help="smarticles per flock (1: no flocks)")
+    g.add_argument("--surface", choices=ST.SURFACES, default=None, help="hatch all, convex or concave regions")
+    g.add_argument("--chain-step", type=int, default=None, help="every n-th feature chain point starts a stroke")
+    g.add_argument("--chain-angle", type=float, default=None, help="degrees between a chain and its strokes")
+    g.add_argument("--stipple-every", type=int, default=None, help="a stipple at every k-th wander step")
+    g.add_argument("--line-width", type=float, default=None, help="line width factor (default 1)")
+    g.add_argument("--contrast", type=float, default=None, help="0-1: how much the light sets width and opacity")
     p.set_defaults(func=run)
+
+
+def _floats(text, what):
+    from ..cli.main import CliError
+    try:
+        v = tuple(float(x) for x in text.split(","))
+    except ValueError:
+        v = ()
+    if len(v) != 3:
+        raise CliError(f"{what} must be three comma-separated numbers x,y,z, got {text!r}")
+    return v
+
+
+def _weights(text):
+    from ..cli.main import CliError
+    if "=" not in text:
+        return text.strip()
+    out = {}
+    for pair in text.split(","):
+        k, _, v = pair.partition("=")
+        try:
+            out[k.strip()] = float(v)
+        except ValueError:
+            raise CliError(f"--weights: {pair!r} is not name=number") from None
+    return out
+
+
+def style_from_args(args):
+    from ..cli.main import CliError
+    ch = {}
+    if args.requests is not None:
+        req = [r.strip() for r in args.requests.split(",") if r.strip()]
+        bad = [r for r in req if r not in ST.LAYER_SWITCHES]
+        if bad or not req:
+            raise CliError(f"requests must be some of {', '.join(ST.LAYER_SWITCHES)}, "
+                           f"got {', '.join(req) or 'none'}")
+        ch.update({k: k in req for k in ST.LAYER_SWITCHES})
+    if args.field is not None:
+        ch["hatch_field"] = args.field
+    if args.axis is not None:
+        ch["hatch_axis"] = _floats(args.axis, "--axis")
+    if args.weights is not None:
+        ch["weights"] = _weights(args.weights)
+    for opt, key in (("flock_size", "flock_size"), ("surface", "surface"), ("chain_step", "chain_step"),
+                     ("chain_angle", "chain_angle"), ("stipple_every", "stipple_every"),
+                     ("line_width", "line_width"), ("contrast", "contrast")):
+        if getattr(args, opt) is not None:
+            ch[key] = getattr(args, opt)
+    try:
+        return ST.style(args.style, **ch)
+    except ValueError as e:
+        raise CliError(f"style: {e}") from None
 
 
 def run(args, out):
     from .render import RenderError, illustrate
     from ..cli.main import CliError
+    st = style_from_args(args)
+    light = None if args.light is None else _floats(args.light, "--light")
     try:
         model = load(args.model)
     except ModelError as e:
         raise CliError(str(e)) from None
     try:
         illustrate(model, args.out, size=args.size, grid=args.grid, agents=args.agents, seed=args.seed,
-                   azimuth=args.azimuth, elevation=args.elevation, seconds=args.seconds,
-                   requests=tuple(r.strip() for r in args.requests.split(",") if r.strip()),
+                   azimuth=args.azimuth, elevation=args.elevation, seconds=args.seconds, style=st, light=light,
                    log=lambda m: (out.write(m + "\n"), out.flush()))
     except RenderError as e:
         raise CliError(str(e)) from None
@@ -43,4 +116,3 @@ def register():
 def unregister():
     from ..cli.main import unregister_command
     unregister_command("render")
-

@@ -17,9 +17,7 @@ from ..agents import Session, Settings
 from ..blackboard.polygonise import surface_box
 from ..blackboard.view import View
 from ..model import Evaluator
-from ..strokes import Stroke, StrokeSet, split_visible
-from ..strokes import layers as L
-from ..strokes.data import LAYER_OF_KIND
+from ..strokes import style as ST
 from . import svg
 from . import scene as S
 from .writer import ink_object, write
@@ -39,53 +37,15 @@ def plan_view(ev, azimuth=35.0, elevation=25.0):
     return centre, radius, S.three_quarter_eye(centre, radius, azimuth, elevation)
 
 
-def stroke_set(session, ev, eye, line_radius):
-    """Visible parts of the session's outlines as plain strokes."""
-    out = StrokeSet()
-    for o in session.outlines():
-        pts = o.points
-        if o.closed:
-            pts = np.vstack([pts, pts[:1]])
-        nrm = np.vstack([o.normals, o.normals[:1]]) if o.closed else o.normals
-        runs = split_visible(ev, pts, eye, nrm)
-        whole = o.closed and runs == [(0, len(pts))]
-        for a, b in runs:
-            seg = pts[a:b - 1] if whole else pts[a:b]
-            k = len(seg)
-            out.add(LAYER_OF_KIND[o.kind], Stroke(seg, np.full(k, line_radius), np.ones(k), cyclic=whole))
-    return out
-
-
-REQUESTS = ("outlines", "hatching", "stipples")
-
-
-def default_light(centre, eye):
-    """Light from the upper left of the viewer, as illustrators draw it."""
-    d = np.asarray(eye, float) - np.asarray(centre, float)
-    d /= np.linalg.norm(d)
-    right = np.cross(d, [0.0, 0.0, 1.0])
-    right /= max(np.linalg.norm(right), 1e-12)
-    light = 0.5 * d - 0.6 * right + 0.7 * np.array([0.0, 0.0, 1.0])
-    return light / np.linalg.norm(light)
-
-
-def add_layers(strokes, session, ev, eye, light, requests, rng, line_radius):
-    """Hatching and stipples from the polygon vertices (MASSRIS section 7)."""
-    V, N = session.mesh.vertices, session.vertex_normals
-    step = 0.3 * session.h
-    if "hatching" in requests:
-        for st in L.hatching(ev, V, N, eye, light, step, rng, field="dir1", radius=0.6 * line_radius):
-            strokes.add("Hatching", st)
-        for st in L.hatching(ev, V, N, eye, light, step, rng, field="dir2", lower=0.1, upper=0.3,
-                             radius=0.5 * line_radius):
-            strokes.add("Hatching", st)          # cross-hatching in the darkest shade
-    if "stipples" in requests:
-        for st in L.stipples(ev, V[::2], N[::2], eye, light, 0.5 * step, rng, radius=1.2 * line_radius):
-            strokes.add("Stipples", st)
-
-
 def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35.0, elevation=25.0,
-               seconds=None, requests=("outlines",), log=print):
+               seconds=None, style=None, light=None, log=print):
+    """Illustrate ``model`` with ``style`` (a strokes.style.Style; default outlines)
+    lit from ``light`` (a direction; default upper left of the viewer)."""
+    style = style or ST.Style()
+    try:
+        style.check()
+    except ValueError as e:
+        raise RenderError(f"style: {e}") from None
     if not os.path.isdir(out_dir):
         parent = os.path.dirname(os.path.abspath(out_dir))
         if not os.path.isdir(parent):
@@ -106,21 +66,17 @@ def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35
     prog = session.progress()
     log(f"outlines: {prog['outlines']} after {prog['iterations']} iterations, "
         f"length {prog['outline_length']:.3g} ({time.perf_counter() - t0:.1f} s)")
-    bad = [r for r in requests if r not in REQUESTS]
-    if bad or not requests:
-        raise RenderError(f"requests must be some of {', '.join(REQUESTS)}, got {', '.join(requests) or 'none'}")
     view_width = 2 * np.linalg.norm(eye - centre) * 18.0 / 50.0
     line_radius = 1.1 * view_width / size
-    strokes = stroke_set(session, ev, eye, line_radius) if "outlines" in requests else StrokeSet()
-    add_layers(strokes, session, ev, eye, default_light(centre, eye), requests, np.random.default_rng(seed),
-               line_radius)
+    light = ST.default_light(centre, eye) if light is None else _direction(light)
+    strokes = ST.place(session, eye, light, style, np.random.default_rng(seed), line_radius)
     if strokes.count() == 0:
         raise RenderError("no visible outline was found to draw")
     bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
     sc = bpy.context.scene
     obj = ink_object(f"{model.name} Ink")
     write(obj, strokes, frame=sc.frame_current)
-    S.setup(sc, centre, eye, size=size)
+    S.setup(sc, centre, eye, size=size, light_dir=light)
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
     _atomic(paths["png"], lambda tmp: _render_png(sc, tmp))
     _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp, strokes, sc, 1e-3 * line_radius * (eye - centre)))
@@ -128,6 +84,13 @@ def illustrate(model, out_dir, size=1024, grid=20, agents=32, seed=0, azimuth=35
     log(f"strokes: " + ", ".join(f"{k} {len(v)}" for k, v in strokes.layers.items() if v) +
         f"; wrote {', '.join(paths.values())} ({time.perf_counter() - t0:.1f} s)")
     return paths, strokes, session
+
+
+def _direction(v):
+    v = np.asarray(v, float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)) or not np.linalg.norm(v) > 0:
+        raise RenderError(f"the light direction must be three finite numbers, not all zero, got {v.tolist()}")
+    return v / np.linalg.norm(v)
 
 
 def _atomic(path, write_fn):

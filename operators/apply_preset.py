@@ -12,7 +12,8 @@ class BLOBTREE_INK_OT_apply_preset(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     tree_name: bpy.props.StringProperty(name="Tree")
-    preset: bpy.props.EnumProperty(name="Preset", items=[(k, k.title(), f"The {k.lower()} look") for k in PRESETS])
+    preset: bpy.props.EnumProperty(name="Preset", items=[(k, k.replace("_", " ").title(), f"The {k.lower().replace('_', ' ')} look")
+                                                 for k in PRESETS])
 
     def execute(self, context):
         try:

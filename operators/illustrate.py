@@ -13,6 +13,7 @@ stipples (the tree's settings) in a region; SINGLE_STROKE draws one smarticle st
 from the 3D cursor. A region is the selected objects' bounds, else a sphere around the
 3D cursor.
 """
+import dataclasses
 import time
 
 import bpy
@@ -23,10 +24,11 @@ from ..agents import Region, Session, Settings
 from ..blackboard.view import View
 from ..blobtree_nodes import preview
 from ..blobtree_nodes.compile import TreeError, compile_tree
+from ..blobtree_nodes.settings import style_of
 from ..grease_pencil import render as R
 from ..grease_pencil.writer import ink_object, write
 from ..model import Evaluator
-from ..strokes import Stroke, StrokeSet, layers as L, smarticles as sm
+from ..strokes import Stroke, StrokeSet, layers as L, smarticles as sm, style as ST
 from .common import context_tree
 
 REQUESTS = [("OUTLINES", "Trace Feature Outlines", "Agents find and trace silhouettes and creases"),
@@ -47,6 +49,22 @@ def _eye(context, tree, ev):
             return np.array(inv.translation)
     centre, radius, eye = R.plan_view(ev)
     return eye
+
+
+def _light(context, centre, eye):
+    """Towards the scene's light: a sun's direction, else the direction to the nearest
+    other light; without a light, the upper left of the viewer."""
+    lights = [o for o in context.scene.objects if o.type == "LIGHT" and not o.hide_render]
+    suns = [o for o in lights if o.data.type == "SUN"]
+    if suns:
+        d = np.array(suns[0].matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0)))
+    elif lights:
+        pos = min((np.array(o.matrix_world.translation) for o in lights), key=lambda p: np.linalg.norm(p - centre))
+        d = pos - centre
+    else:
+        return ST.default_light(centre, eye)
+    n = np.linalg.norm(d)
+    return d / n if n > 0 else ST.default_light(centre, eye)
 
 
 def _region(context, tree):
@@ -75,6 +93,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.model = compile_tree(self.tree)
         self.ev = Evaluator(self.model)
         s = self.tree.ink
+        self.style = style_of(s)
         self.eye = _eye(context, self.tree, self.ev)
         self.session = Session(self.ev, View(eye=self.eye), Settings(resolution=s.grid_resolution,
                                                                      agents=s.agents, lod=s.lod, seed=s.seed))
@@ -86,6 +105,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.obj = ink_object(f"{self.model.name} Ink")
         centre, radius, _ = R.plan_view(self.ev)
         self.line_radius = 0.0025 * radius
+        self.light = _light(context, centre, self.eye)
         self.tasks0 = max(self.session.tasks_left, 1)
         self.t_start = time.perf_counter()
         last_run.clear()
@@ -93,31 +113,25 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
 
     def _write(self, final=False):
         if final:
-            strokes = R.stroke_set(self.session, self.ev, self.eye, self.line_radius)
+            strokes = self._final_strokes()
         else:                # while running: the outlines as traced (hidden lines go at the end)
             strokes = StrokeSet.from_outlines(self.session.outlines(), self.line_radius)
-        if final and self.request == "PLACE_STROKES":
-            self._place_strokes(strokes)
-        if final and self.request == "SINGLE_STROKE":
-            self._single_stroke(strokes)
         write(self.obj, strokes, frame=bpy.context.scene.frame_current)
         last_run["strokes"] = strokes.count()
 
-    def _place_strokes(self, strokes):
-        s = self.tree.ink
-        inside = self.region.contains(self.session.mesh.vertices)
-        V, N = self.session.mesh.vertices[inside], self.session.vertex_normals[inside]
-        rng = np.random.default_rng(s.seed)
-        light = R.default_light(0.5 * np.add(*self.ev.bounds), self.eye)
-        step = 0.3 * self.session.h
-        if s.hatching or not s.stipples:
-            for st in L.hatching(self.ev, V, N, self.eye, light, step, rng, radius=0.6 * self.line_radius,
-                                 rules=sm.StrokeRules(max_steps=10, region=self.region)):
-                strokes.add("Hatching", st)
-        if s.stipples:
-            for st in L.stipples(self.ev, V, N, self.eye, light, 0.5 * step, rng, radius=1.2 * self.line_radius,
-                                 region=self.region):
-                strokes.add("Stipples", st)
+    def _final_strokes(self):
+        st = self.style
+        if self.request == "PLACE_STROKES":
+            if not (st.hatching or st.stipples or st.chains or st.short):
+                st = dataclasses.replace(st, hatching=True)
+        else:
+            st = dataclasses.replace(st, hatching=False, stipples=False, chains=False, short=False)
+        region = self.region if self.request == "PLACE_STROKES" else None
+        strokes = ST.place(self.session, self.eye, self.light, st, np.random.default_rng(self.tree.ink.seed),
+                           self.line_radius, region)
+        if self.request == "SINGLE_STROKE":
+            self._single_stroke(strokes)
+        return strokes
 
     def _single_stroke(self, strokes):
         cursor = np.array(bpy.context.scene.cursor.location)[None]
@@ -125,11 +139,14 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         if abs(f[0] - self.ev.iso) > 1e-6:
             self.report({"WARNING"}, "the 3D cursor is not near the surface: no stroke")
             return
-        res = sm.run(self.ev, P, L.direction_field("dir1"), 0.3 * self.session.h, sm.PRESETS["hatching"],
+        st = self.style
+        field = L.direction_field(st.hatch_field, st.hatch_axis, self.eye)
+        res = sm.run(self.ev, P, field, 0.3 * self.session.h, st.resolved_weights(),
                      sm.StrokeRules(max_steps=60, stop_on_curvature_sign=False), np.random.default_rng(0))
         p = res.paths[0]
         if len(p) >= 2:
-            strokes.add("Strokes", Stroke(p, np.full(len(p), self.line_radius), np.ones(len(p))))
+            r = self.line_radius * st.line_width
+            strokes.add("Strokes", Stroke(p, np.full(len(p), r), np.ones(len(p))))
 
     def _figures(self):
         pr = self.session.progress()

@@ -17,9 +17,9 @@ def _draw(layout, context, trees):
             op.tree_name = tree.name
             op.request = ident
         s = tree.ink
-        row = box.row(align=True)
+        grid = box.grid_flow(columns=2, align=True)
         for key in PRESETS:
-            op = row.operator("blobtree_ink.apply_preset", text=key.title())
+            op = grid.operator("blobtree_ink.apply_preset", text=key.replace("_", " ").title())
             op.tree_name = tree.name
             op.preset = key
         col = box.column(align=True)
@@ -28,9 +28,7 @@ def _draw(layout, context, trees):
         col.prop(s, "lod")
         col.prop(s, "seed")
         col.prop(s, "use_camera")
-        row = box.row(align=True)
-        row.prop(s, "hatching", toggle=True)
-        row.prop(s, "stipples", toggle=True)
+        _draw_style(box, s)
         box.prop(s, "region_radius")
         obj = bpy.data.objects.get(f"{tree.model_name or tree.name} Ink")
         if obj is not None and obj.type == "GREASEPENCIL":
@@ -44,6 +42,36 @@ def _draw(layout, context, trees):
         col.label(text=f"Iterations: {last_run.get('iterations', 0)}")
         col.label(text=f"Tasks left: {last_run.get('tasks_left', 0)}")
         col.label(text=f"Outline length: {last_run.get('outline_length', 0):.3g}")
+
+
+def _draw_style(layout, s):
+    col = layout.column(align=True)
+    col.label(text="Strokes")
+    row = col.row(align=True)
+    row.prop(s, "hatching", toggle=True)
+    row.prop(s, "stipples", toggle=True)
+    row = col.row(align=True)
+    row.prop(s, "chains", toggle=True)
+    row.prop(s, "short", toggle=True)
+    col = layout.column(align=True)
+    col.prop(s, "hatch_field")
+    if s.hatch_field == "AXIS":
+        col.prop(s, "hatch_axis")
+    col.prop(s, "cross_hatching")
+    col.prop(s, "surface")
+    col.prop(s, "weights")
+    if s.weights == "CUSTOM":
+        for name in ("w_flow", "w_wander", "w_separation", "w_alignment", "w_cohesion"):
+            col.prop(s, name)
+    col.prop(s, "flock_size")
+    col = layout.column(align=True)
+    col.prop(s, "shade_lower")
+    col.prop(s, "shade_upper")
+    col.prop(s, "chain_step")
+    col.prop(s, "chain_angle")
+    col.prop(s, "stipple_every")
+    col.prop(s, "line_width")
+    col.prop(s, "contrast")
 
 
 class VIEW3D_PT_blobtree_ink(bpy.types.Panel):

@@ -5,7 +5,8 @@ A run starts smarticles at given points (one per stroke; a flock is a group shar
 flock id), steps them all together (one batched field evaluation per step), corrects
 them onto the surface, and ends each path on the termination rules: a change of the
 sign of the mean curvature, the normal turning from the start's by more than a limit,
-path length or step count, or leaving the containment region. The terminating point
+path length or step count, the distance from a feature line (the closest point of
+the given feature points), or leaving the containment region. The terminating point
 is not included.
 """
 from dataclasses import dataclass, field
@@ -31,6 +32,8 @@ class StrokeRules:
     max_normal_angle: float = np.radians(60.0)
     stop_on_curvature_sign: bool = True
     region: object = None                  # agents.Region or None
+    feature_points: object = None          # (m, 3) points of the feature lines, or None
+    max_feature_distance: float = np.inf   # containment around those feature lines
 
 
 @dataclass
@@ -40,9 +43,12 @@ class Run:
     reasons: list = field(default_factory=list)
 
 
-def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, separation_radius=None):
+def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, separation_radius=None,
+        headings=None):
     """Trace one path per start. ``direction_field(P, normals, curv) -> (n,3)`` gives
-    the flow field (e.g. a principal direction)."""
+    the flow field (e.g. a principal direction; ``curv["velocity"]`` is the current
+    heading, for fields that keep it). ``headings`` (n,3) are the initial headings (by
+    default the flow field at the start)."""
     P = np.array(starts, float)
     n = len(P)
     out = Run()
@@ -52,7 +58,13 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
     P, f, g = _onto(ev, P)
     N = -st.unit(g)
     c = curvature(ev, P, g)
-    V = direction_field(P, N, c)
+    c["velocity"] = np.zeros_like(P)
+    if headings is None:
+        V = np.array(direction_field(P, N, c), float)
+        still = np.linalg.norm(V, axis=1) == 0          # a field that only keeps the heading: start along dir1
+        V[still] = c["dir1"][still]
+    else:
+        V = np.array(headings, float).reshape(n, 3)
     V = st.unit(st.tangent(V + 1e-9 * rng.normal(size=V.shape), N))
     start_n = N.copy()
     start_sign = np.sign(c["mean"])
@@ -67,7 +79,8 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
         if len(idx) == 0:
             break
         p, v, nn = P[idx], V[idx], N[idx]
-        cur = {"mean": c["mean"][idx], "dir1": c["dir1"][idx], "dir2": c["dir2"][idx], "normal": nn}
+        cur = {"mean": c["mean"][idx], "dir1": c["dir1"][idx], "dir2": c["dir2"][idx], "normal": nn,
+               "velocity": v}
         forces = {"flow": st.flow(direction_field(p, nn, cur), v),
                   "wander": st.wander(v, nn, rng)}
         if any(weights.get(w, 0) for w in ("separation", "alignment", "cohesion")):
@@ -94,6 +107,10 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
         m = (lengths[idx] + seg > rules.max_length) & ~stop
         stop |= m
         why[m] = "length"
+        if rules.feature_points is not None and np.isfinite(rules.max_feature_distance):
+            m = (nearest_distance(newp, rules.feature_points) > rules.max_feature_distance) & ~stop
+            stop |= m
+            why[m] = "feature distance"
         if rules.region is not None:
             m = ~rules.region.contains(newp) & ~stop
             stop |= m
@@ -117,6 +134,21 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
         out.paths.append(np.array(paths[i]))
         out.normals.append(np.array(norms[i]))
         out.reasons.append(reasons[i] or "steps")
+    return out
+
+
+def nearest_distance(P, Q, rows=512):
+    """Distance from each point of P (n,3) to the closest point of Q (m,3), in row
+    blocks so that memory stays bounded."""
+    P, Q = np.asarray(P, float), np.asarray(Q, float)
+    if len(Q) == 0:
+        return np.full(len(P), np.inf)
+    qq = np.einsum("ij,ij->i", Q, Q)
+    out = np.empty(len(P))
+    for a in range(0, len(P), rows):
+        p = P[a:a + rows]
+        d2 = np.einsum("ij,ij->i", p, p)[:, None] + qq[None, :] - 2.0 * p @ Q.T
+        out[a:a + rows] = np.sqrt(np.maximum(d2.min(axis=1), 0.0))
     return out
 
 

@@ -60,18 +60,29 @@ def visible(ev, P, eye, normals=None, step=None, offset=None):
 
 def split_visible(ev, stroke_points, eye, normals=None, min_points=2):
     """[(start, end)] index ranges of the visible runs of a polyline."""
-    v = visible(ev, stroke_points, eye, normals)
-    runs = []
-    i = 0
-    n = len(v)
-    while i < n:
-        if v[i]:
-            j = i
-            while j + 1 < n and v[j + 1]:
-                j += 1
-            if j - i + 1 >= min_points:
-                runs.append((i, j + 1))
-            i = j + 1
-        else:
-            i += 1
-    return runs
+    return split_visible_many(ev, [stroke_points], eye, None if normals is None else [normals], min_points)[0]
+
+
+def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
+    """The visible runs of many polylines, marched as one batch (one field evaluation
+    per ray-march step for all their points): a list of [(start, end)] per polyline."""
+    if not polylines:
+        return []
+    sizes = [len(p) for p in polylines]
+    P = np.concatenate([np.asarray(p, float).reshape(-1, 3) for p in polylines])
+    Nn = None if normals is None else np.concatenate([np.asarray(n, float).reshape(-1, 3) for n in normals])
+    v = visible(ev, P, eye, Nn)
+    out = []
+    for part in np.split(v, np.cumsum(sizes)[:-1]):
+        out.append(_runs(part, min_points))
+    return out
+
+
+def _runs(v, min_points):
+    """[(start, end)] of the True runs of v at least min_points long."""
+    if len(v) == 0:
+        return []
+    d = np.diff(np.concatenate([[0], v.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    keep = ends - starts >= min_points
+    return list(zip(starts[keep].tolist(), ends[keep].tolist()))

@@ -74,3 +74,51 @@ def test_presets_set_the_tree_settings(example):
     assert tree.ink.stipples and not tree.ink.hatching
     assert bpy.ops.blobtree_ink.apply_preset(tree_name="sphere", preset="HATCHED") == {"FINISHED"}
     assert tree.ink.hatching and not tree.ink.stipples and tree.ink.grid_resolution == 20
+
+
+def test_every_preset_maps_to_its_style_and_back(ext, example):
+    from importlib import import_module
+    ST = import_module(f"{ext.__name__}.strokes.style")
+    settings = import_module(f"{ext.__name__}.blobtree_nodes.settings")
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
+    tree = bpy.data.node_groups["sphere"]
+    for name, style in ST.STYLES.items():
+        key = name.upper().replace("-", "_")
+        assert bpy.ops.blobtree_ink.apply_preset(tree_name="sphere", preset=key) == {"FINISHED"}
+        got = settings.style_of(tree.ink)
+        for f in settings.STYLE_PROPS:
+            want, have = getattr(style, f), getattr(got, f)
+            want, have = (tuple(want), tuple(have)) if f == "hatch_axis" else (want, have)
+            assert have == pytest.approx(want, rel=1e-6) if not isinstance(want, str) else have == want, (name, f)
+        assert got.resolved_weights() == pytest.approx(style.resolved_weights(), rel=1e-6)
+    tree.ink.weights = "CUSTOM"
+    tree.ink.w_cohesion = 2.5
+    assert settings.style_of(tree.ink).resolved_weights()["cohesion"] == 2.5
+    tree.ink.shade_lower, tree.ink.shade_upper = 0.9, 0.1
+    with pytest.raises(RuntimeError, match="shade_lower .* must not exceed shade_upper"):
+        bpy.ops.blobtree_ink.illustrate(tree_name="sphere")
+    assert not [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
+
+
+def test_place_strokes_uses_the_tree_style_and_the_scene_sun(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
+    tree = bpy.data.node_groups["sphere"]
+    tree.ink.grid_resolution = 12
+    tree.ink.hatching, tree.ink.chains, tree.ink.short = True, True, True
+    tree.ink.cross_hatching = False
+    tree.ink.region_radius = 5.0
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    bpy.context.scene.collection.objects.link(sun)
+    sun.rotation_euler = (0.0, np.pi / 2, 0.0)        # its +Z axis (towards the light) is +x
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    bpy.context.scene.collection.objects.link(cam)
+    bpy.context.scene.camera = cam
+    cam.location = (0.0, -4.0, 0.0)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="PLACE_STROKES") == {"FINISHED"}
+    layers = ink("sphere")
+    assert layers["Hatching"] and layers["Strokes"]
+    pts = np.array([p.position for s in layers["Hatching"] + layers["Strokes"] for p in s.points])
+    # the shade (n.L at most shade_upper 0.6, 0.65 for short strokes) is on the side away from the sun (-x)
+    assert pts[:, 0].max() < 0.66 * 0.4543 and pts[:, 0].min() < -0.4
+    radii = np.array([p.radius for s in layers["Hatching"] for p in s.points])
+    assert radii.min() < 0.8 * radii.max()          # width follows the light

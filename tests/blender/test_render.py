@@ -91,7 +91,7 @@ def test_visible_strokes_lie_on_the_surface_and_face_the_eye(ext, example):
     s = A.Session(ev, V.View(eye=eye), A.Settings(resolution=12))
     s.request("OUTLINES")
     s.run()
-    strokes = R.stroke_set(s, ev, eye, 0.01)
+    strokes = mod(ext, "strokes.style").outline_strokes(s.outlines(), ev, eye, 0.01)
     pts = np.concatenate([st.points for st in strokes.layers["Silhouette"]])
     f, g = ev.field_grad(pts)
     assert np.abs(f - 0.5).max() < 1e-9
@@ -130,3 +130,37 @@ def test_render_with_hatching_and_stipples(ext, example, tmp_path):
 def test_bad_requests_are_named(ext, example, tmp_path, capsys):
     assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--requests", "outlines,shading"]) == 1
     assert "requests must be some of outlines, hatching, stipples" in capsys.readouterr().err
+
+
+def test_render_a_flocked_jug_with_chain_and_short_strokes(ext, example, tmp_path):
+    out = io.StringIO()
+    code = ext.cli.main(["render", example("jug"), "--out", str(tmp_path), "--size", "256", "--grid", "14",
+                         "--style", "flocked", "--requests", "outlines,hatching,chains,short",
+                         "--weights", "flow=1,wander=0.2,separation=0.6,alignment=0.5,cohesion=0.05",
+                         "--chain-step", "2", "--light=-1,-1,1"], out=out)
+    assert code == 0, out.getvalue()
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "jug.blend"))
+    gp = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"][0].data
+    hatch = gp.layers["Hatching"].frames[0].drawing
+    short = gp.layers["Strokes"].frames[0].drawing
+    assert len(hatch.strokes) > 20 and len(short.strokes) > 5
+    r = np.array([p.radius for s in hatch.strokes for p in s.points])
+    o = np.array([p.opacity for s in hatch.strokes for p in s.points])
+    assert r.min() < 0.8 * r.max() and o.min() < 0.8 * o.max()     # per-point radius and opacity from the light
+    sun = bpy.data.objects["BlobTree Ink Light"]
+    towards = np.array(sun.matrix_world.to_3x3().col[2])
+    assert np.allclose(towards, np.array([-1, -1, 1]) / np.sqrt(3), atol=1e-6)   # the .blend's sun is the light used
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--weights", "gravity=1"], "unknown behaviour 'gravity'"),
+    (["--weights", "flow=lots"], "'flow=lots' is not name=number"),
+    (["--axis", "1,2"], "--axis must be three comma-separated numbers"),
+    (["--contrast", "5"], "contrast must be a number from 0 to 1"),
+    (["--light", "0,0,0"], "light direction must be three finite numbers, not all zero"),
+    (["--chain-step", "0"], "chain_step must be a whole number from 1"),
+])
+def test_bad_style_options_are_named(ext, example, tmp_path, capsys, args, message):
+    assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--grid", "8"] + args) == 1
+    assert message in capsys.readouterr().err
+    assert not os.listdir(tmp_path)

@@ -1,0 +1,210 @@
+"""Drawing styles: strokes from feature chains, short strokes on polygon centres,
+flocks, convex/concave regions, flow fields, tone from the light, batched hidden-line
+removal, and the style's validation."""
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from blobtree_ink import model as M
+from blobtree_ink.agents import Session, Settings
+from blobtree_ink.blackboard.view import View
+from blobtree_ink.model.curvature import curvature
+from blobtree_ink.strokes import layers, smarticles as sm, steering as st, style as ST
+from blobtree_ink.strokes.visibility import split_visible, split_visible_many
+
+K = math.sqrt(1 - 0.5 ** (1 / 3))      # sphere radius of an R=1 primitive at iso 0.5
+
+
+def ev_of(root):
+    return M.Evaluator(M.from_dict({"format": "blobtree-1", "root": root}))
+
+
+@pytest.fixture(scope="module")
+def sphere_session():
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    eye = np.array([0.0, -4.0, 0.0])
+    s = Session(ev, View(eye=eye), Settings(resolution=14, seed=1))
+    s.request("OUTLINES")
+    s.run()
+    return s, eye
+
+
+@pytest.fixture(scope="module")
+def blend_session(load_example):
+    ev = M.Evaluator(load_example("csg_difference"))      # the bite is a concave spherical cap
+    eye = np.array([4.0, -1.5, 0.6])
+    s = Session(ev, View(eye=eye), Settings(resolution=16, seed=1))
+    s.request("OUTLINES")
+    s.run()
+    return s, eye
+
+
+def test_default_light_comes_from_the_viewers_upper_left():
+    centre, eye = np.zeros(3), np.array([0.0, -5.0, 0.0])       # looking along +y: the viewer's right is +x
+    L = ST.default_light(centre, eye)
+    assert abs(np.linalg.norm(L) - 1) < 1e-12
+    assert L[0] < -0.3 and L[2] > 0.3 and L[1] < 0        # left, up, towards the viewer
+
+
+def test_tone_darker_is_thicker_and_blacker_and_contrast_zero_is_uniform():
+    r, o = layers.tone(np.array([0.0, 0.3, 0.6]), 0.6, 2.0)
+    assert np.all(np.diff(r) < 0) and np.all(np.diff(o) < 0)
+    assert r[0] == pytest.approx(3.0) and r[-1] == pytest.approx(1.0) and o[0] == 1.0 and o[-1] == pytest.approx(0.35)
+    r, o = layers.tone(np.array([0.0, 0.3, 0.6]), 0.6, 2.0, contrast=0.0)
+    assert np.all(r == 2.0) and np.all(o == 1.0)
+
+
+def test_contour_field_is_tangent_and_across_the_view(sphere_session):
+    s, eye = sphere_session
+    P = s.mesh.vertices[:200]
+    N = s.vertex_normals[:200]
+    d = layers.direction_field("contour", eye=eye)(P, N, {})
+    view = st.unit(eye - P)
+    assert np.abs(np.einsum("ij,ij->i", d, N)).max() < 1e-9
+    assert np.abs(np.einsum("ij,ij->i", d, view)).max() < 1e-9
+    with pytest.raises(ValueError, match="contour flow field needs the eye"):
+        layers.direction_field("contour")
+    with pytest.raises(ValueError, match="unknown flow field 'spiral'"):
+        layers.direction_field("spiral")
+
+
+def test_feature_distance_ends_a_stroke_without_its_terminating_point():
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    feat = np.array([[K * math.cos(t), K * math.sin(t), 0.0] for t in np.linspace(0, 2 * math.pi, 400)])
+    start = np.array([[K, 0.0, 0.0]])
+    rules = sm.StrokeRules(max_steps=100, max_normal_angle=math.pi, stop_on_curvature_sign=False,
+                           feature_points=feat, max_feature_distance=0.2)
+    res = sm.run(ev, start, layers.direction_field("axis", (0, 0, 1)), 0.02, sm.PRESETS["hatching"], rules,
+                 np.random.default_rng(0))
+    assert res.reasons[0] == "feature distance"
+    d = sm.nearest_distance(res.paths[0], feat)
+    assert d.max() <= 0.2 and d.max() > 0.2 - 0.03          # went as far as allowed, not a step further
+    assert np.allclose(sm.nearest_distance(np.eye(3), np.eye(3)[:2]), [0, 0, math.sqrt(2)])
+
+
+def test_chain_strokes_start_on_the_silhouette_and_go_to_the_visible_side(sphere_session):
+    s, eye = sphere_session
+    sil = [o for o in s.outlines() if o.kind == "silhouette"]
+    feat = np.concatenate([o.points for o in sil])
+    step = 0.3 * s.h
+    light = np.array([1.0, 0.0, 0.0])          # the -x half is in shade
+    common = dict(angle=90.0, max_distance=4 * step, lower=0.0, upper=0.05, radius=0.01)
+    dense = layers.chain_strokes(s.ev, sil, eye, light, step, np.random.default_rng(0), every=1, **common)
+    sparse = layers.chain_strokes(s.ev, sil, eye, light, step, np.random.default_rng(0), every=4, **common)
+    assert len(dense) > 20
+    assert 3 < len(dense) / len(sparse) < 5                  # the density step indexes every n-th chain point
+    for stroke in dense:
+        p = stroke.points
+        f = s.ev.field(p)
+        assert np.abs(f - 0.5).max() < 1e-6                   # on the surface
+        assert sm.nearest_distance(p[:1], feat)[0] < 1.5 * step   # starts at the chain
+        assert sm.nearest_distance(p, feat).max() <= 4 * step      # contained around the feature line
+        facing = np.einsum("ij,ij->i", -p / np.linalg.norm(p, axis=1, keepdims=True), p - eye)
+        assert np.all(np.diff(facing) > 0)              # each step turns further towards the viewer
+        assert np.all(p[:, 0] <= 0.05 * K + 1e-9)          # only in the shade
+
+
+def test_short_strokes_are_centred_on_polygon_centres(sphere_session):
+    s, eye = sphere_session
+    C, CN = ST.face_centres(s)
+    step = 0.3 * s.h
+    out = layers.short_strokes(s.ev, C, CN, eye, np.array([0.0, 0.0, 1.0]), step, np.random.default_rng(0),
+                               steps=3, lower=0.9, upper=0.95)
+    whole = [x for x in out if len(x.points) == 7]
+    assert len(whole) > 10
+    for x in whole:
+        mid = x.points[3]
+        assert np.linalg.norm(C - mid, axis=1).min() < 0.5 * s.h      # the centre of the polygon
+        assert np.linalg.norm(x.points[0] - x.points[-1]) > 4 * step     # goes both ways
+
+
+def test_concave_hatching_stays_in_the_concave_region(blend_session):
+    s, eye = blend_session
+    assert (s.vertex_curvature["mean"] < 0).any()
+    light = np.array([0.0, 0.0, 1.0])
+    st_ = ST.style("outlines", hatching=True, cross_hatching=False, surface="concave", outlines=False,
+                   shade_lower=1.0, shade_upper=1.0)
+    out = ST.place(s, eye, light, st_, np.random.default_rng(0), 0.01)
+    strokes = out.layers["Hatching"]
+    assert len(strokes) > 3
+    P = np.concatenate([x.points for x in strokes])
+    assert curvature(s.ev, P)["mean"].max() < 0
+    convex = ST.place(s, eye, light, dataclasses.replace(st_, surface="convex"), np.random.default_rng(0), 0.01)
+    P = np.concatenate([x.points for x in convex.layers["Hatching"]])
+    assert curvature(s.ev, P)["mean"].min() > 0
+
+
+def test_flocks_spawn_side_by_side_and_flocked_hatching_differs(blend_session):
+    rng = np.random.default_rng(0)
+    starts = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+    normals = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
+    heads = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    P, H, ids = layers.spawn_flocks(starts, normals, heads, 5, 0.1, rng)
+    assert P.shape == (10, 3) and list(ids) == [0] * 5 + [1] * 5
+    assert np.allclose(H[:5], heads[0]) and np.allclose(H[5:], heads[1])
+    assert np.ptp(P[:5, 1]) > 0.3 and np.ptp(P[5:, 2]) > 0.3      # spread across the heading
+    s, eye = blend_session
+    light = np.array([0.0, 0.0, 1.0])
+    flock = ST.place(s, eye, light, ST.style("flocked"), np.random.default_rng(0), 0.01).layers["Hatching"]
+    plain = ST.place(s, eye, light, ST.style("hatched", cross_hatching=False), np.random.default_rng(0),
+                     0.01).layers["Hatching"]
+    assert len(flock) > 5 and len(plain) > 5
+    for x in flock:
+        assert np.abs(s.ev.field(x.points) - 0.5).max() < 1e-6
+
+
+def test_place_is_deterministic_and_tones_every_layer(sphere_session):
+    s, eye = sphere_session
+    light = ST.default_light(np.zeros(3), eye)
+    st_ = ST.style("short-strokes", hatching=True, chains=True)
+    a = ST.place(s, eye, light, st_, np.random.default_rng(5), 0.01)
+    b = ST.place(s, eye, light, st_, np.random.default_rng(5), 0.01)
+    for name in ("Silhouette", "Hatching", "Stipples", "Strokes"):
+        assert a.count(name) > 0 and a.count(name) == b.count(name)
+        assert all(np.array_equal(x.points, y.points) for x, y in zip(a.layers[name], b.layers[name]))
+    r = np.concatenate([x.radius for x in a.layers["Hatching"]])
+    assert r.min() < 0.7 * r.max()                   # the radius follows the shade
+    sil = np.concatenate([x.radius for x in a.layers["Silhouette"]])
+    assert sil.min() < sil.max()                      # heavier on the side turned from the light
+
+
+def test_batched_visibility_equals_one_stroke_at_a_time():
+    ev = ev_of({"type": "union", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.0},
+        {"type": "point", "center": [0, 3, 0], "radius": 1.0}]})
+    eye = np.array([0.0, -6.0, 0.0])
+    x = np.linspace(-1.0, 1.0, 60)
+    polys = [np.stack([x, 3 + dy + 0 * x, 0.5 * dy + 0 * x], 1) for dy in (-0.3, 0.0, 0.3)]
+    polys.append(np.array([[2.0, 0.0, 0.0]]))
+    one = [split_visible(ev, p, eye) for p in polys]
+    many = split_visible_many(ev, polys, eye)
+    assert one == many
+    for r, dy in zip(many[:3], (-0.3, 0.0, 0.3)):     # the middle of each line is behind the front sphere
+        W = (9 + dy) * K / math.sqrt(36 - K * K)              # the sphere's shadow cone at the line's depth
+        w = math.sqrt(W * W - (0.5 * dy) ** 2)
+        assert len(r) == 2 and r[0][0] == 0 and r[1][1] == 60
+        assert abs(x[r[0][1]] + w) < 0.05 and abs(x[r[1][0] - 1] - w) < 0.05
+    assert many[3] == []        # too short to be a stroke
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(hatch_field="spiral"), "hatch_field must be one of"),
+    (dict(surface="flat"), "surface must be one of all, convex, concave"),
+    (dict(line_width=float("nan")), "line_width must be a number from 0.01 to 100"),
+    (dict(contrast=2.0), "contrast must be a number from 0 to 1"),
+    (dict(flock_size=0), "flock_size must be a whole number from 1 to 64"),
+    (dict(chain_step=2.5), "chain_step must be a whole number"),
+    (dict(weights="wobbly"), "weights preset must be one of hatching, flock, sketchy, stipple"),
+    (dict(weights={"gravity": 1.0}), "unknown behaviour 'gravity'"),
+    (dict(weights={"flow": float("inf")}), "weight flow must be a number from 0 to 100"),
+    (dict(hatch_axis=(0, 0, 0)), "hatch_axis must be three finite numbers, not all zero"),
+    (dict(shade_lower=0.8, shade_upper=0.2), r"shade_lower \(0.8\) must not exceed shade_upper"),
+    (dict(colour="red"), "unknown style setting 'colour'"),
+])
+def test_bad_styles_are_named(change, message):
+    with pytest.raises(ValueError, match=message):
+        ST.style("outlines", **change)
+    with pytest.raises(ValueError, match="unknown style 'baroque'"):
+        ST.style("baroque")
