@@ -1,9 +1,9 @@
 """Illustrate: the MASSRIS agents working on the active BlobTree, as a modal operator.
 
-In the UI a timer ticks; each tick runs system iterations for a bounded slice of time
-(`slice_ms`, a tick overruns it by at most one iteration), writes the strokes found so
-far to the model's Grease Pencil object, and updates the progress bar and the status
-text. Esc or right-click stops and keeps everything made so far; the whole run is one
+In the UI the agents step on a worker thread (agents.runner: pure numpy, no Blender
+data) and a timer ticks; each tick only reads the latest snapshot, writes the strokes
+found so far to the model's Grease Pencil object, and updates the progress bar and the
+status text, so a tick takes milliseconds however slow an iteration is. Esc or right-click stops and keeps everything made so far; the whole run is one
 undo step. Editing the tree during a run stops it. In background mode (`blender -b`)
 and from scripts without an event loop, `execute` runs the stepper to completion.
 
@@ -13,7 +13,6 @@ stipples (the tree's settings) in a region; SINGLE_STROKE draws one smarticle st
 from the 3D cursor. A region is the selected objects' bounds, else a sphere around the
 3D cursor.
 """
-import dataclasses
 import time
 
 import bpy
@@ -21,6 +20,7 @@ from mathutils import Vector
 import numpy as np
 
 from ..agents import Region, Session, Settings
+from ..agents.runner import Runner
 from ..blackboard.view import View
 from ..blobtree_nodes import preview
 from ..blobtree_nodes.compile import TreeError, compile_tree
@@ -28,7 +28,8 @@ from ..blobtree_nodes.settings import style_of
 from ..grease_pencil import render as R
 from ..grease_pencil.writer import ink_object, write
 from ..model import Evaluator
-from ..strokes import Stroke, StrokeSet, layers as L, smarticles as sm, style as ST
+from ..strokes import StrokeSet, style as ST
+from ..strokes.requests import final_strokes
 from .common import context_tree
 
 REQUESTS = [("OUTLINES", "Trace Feature Outlines", "Agents find and trace silhouettes and creases"),
@@ -84,7 +85,6 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
 
     tree_name: bpy.props.StringProperty(name="Tree")
     request: bpy.props.EnumProperty(name="Request", items=REQUESTS, default="OUTLINES")
-    slice_ms: bpy.props.FloatProperty(name="Slice (ms)", default=40.0, min=5.0, max=1000.0)
 
     # --- setting up ------------------------------------------------------------------
     def _start(self, context):
@@ -102,57 +102,31 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self.session.request("FIND_FEATURES", self.region)
         self.session.request("OUTLINES")
         self.edits0 = preview.edits(self.tree)
-        self.obj = ink_object(f"{self.model.name} Ink")
+        self.obj_name = ink_object(f"{self.model.name} Ink").name
         centre, radius, _ = R.plan_view(self.ev)
         self.line_radius = 0.0025 * radius
         self.light = _light(context, centre, self.eye)
+        self.cursor = np.array(context.scene.cursor.location)
+        self.seed = s.seed
         self.tasks0 = max(self.session.tasks_left, 1)
         self.t_start = time.perf_counter()
         last_run.clear()
         last_run.update(iterations=0, ticks=0, max_tick_ms=0.0, state="running", tree=self.tree_key)
 
-    def _write(self, final=False):
-        if final:
-            strokes = self._final_strokes()
-        else:                # while running: the outlines as traced (hidden lines go at the end)
-            strokes = StrokeSet.from_outlines(self.session.outlines(), self.line_radius)
-        write(self.obj, strokes, frame=bpy.context.scene.frame_current)
+    def _write(self, strokes):
+        write(ink_object(self.obj_name), strokes, frame=bpy.context.scene.frame_current)
         last_run["strokes"] = strokes.count()
 
-    def _final_strokes(self):
-        st = self.style
-        if self.request == "PLACE_STROKES":
-            if not (st.hatching or st.stipples or st.chains or st.short):
-                st = dataclasses.replace(st, hatching=True)
-        else:
-            st = dataclasses.replace(st, hatching=False, stipples=False, chains=False, short=False)
-        region = self.region if self.request == "PLACE_STROKES" else None
-        strokes = ST.place(self.session, self.eye, self.light, st, np.random.default_rng(self.tree.ink.seed),
-                           self.line_radius, region)
-        if self.request == "SINGLE_STROKE":
-            self._single_stroke(strokes)
-        return strokes
+    def _finalizer(self):
+        """The pure finishing step, bound to plain values only (it runs on the worker)."""
+        args = (self.session, self.request, self.style, self.eye, self.light, self.line_radius, self.seed,
+                self.region, self.cursor)
+        return lambda: final_strokes(*args)
 
-    def _single_stroke(self, strokes):
-        cursor = np.array(bpy.context.scene.cursor.location)[None]
-        P, f, g = self.session.surface.project(cursor)
-        if abs(f[0] - self.ev.iso) > 1e-6:
-            self.report({"WARNING"}, "the 3D cursor is not near the surface: no stroke")
-            return
-        st = self.style
-        field = L.direction_field(st.hatch_field, st.hatch_axis, self.eye)
-        res = sm.run(self.ev, P, field, 0.3 * self.session.h, st.resolved_weights(),
-                     sm.StrokeRules(max_steps=60, stop_on_curvature_sign=False), np.random.default_rng(0))
-        p = res.paths[0]
-        if len(p) >= 2:
-            r = self.line_radius * st.line_width
-            strokes.add("Strokes", Stroke(p, np.full(len(p), r), np.ones(len(p))))
-
-    def _figures(self):
-        pr = self.session.progress()
-        last_run.update(iterations=pr["iterations"], tasks_left=pr["tasks_left"],
-                        outline_length=pr["outline_length"])
-        return pr
+    def _figures(self, progress):
+        last_run.update(iterations=progress["iterations"], tasks_left=progress["tasks_left"],
+                        outline_length=progress["outline_length"])
+        return progress
 
     # --- running -----------------------------------------------------------------------
     def execute(self, context):
@@ -162,9 +136,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
         self.session.run()
-        self._figures()
-        self._write(final=True)
-        last_run["state"] = "done"
+        self._figures(self.session.progress())
+        strokes, warnings = self._finalizer()()
+        self._write(strokes)
+        self._report_done("done", warnings)
         return {"FINISHED"}
 
     def invoke(self, context, event):
@@ -175,6 +150,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         except (LookupError, TreeError, ValueError) as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
+        # the agents step on a worker thread; each tick only shows their latest snapshot
+        self.runner = Runner(self.session, finalize=self._finalizer()).start()
+        self.shown = 0
         wm = context.window_manager
         self.timer = wm.event_timer_add(0.05, window=context.window)
         wm.progress_begin(0, 100)
@@ -186,39 +164,58 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return self._finish(context, "stopped")
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
+        t0 = time.perf_counter()
         tree = bpy.data.node_groups.get(self.tree_key)
         if tree is None or preview.edits(tree) != self.edits0:
             self.report({"WARNING"}, "the BlobTree changed: illustration stopped")
             return self._finish(context, "tree edited")
-        t0 = time.perf_counter()
-        budget = self.slice_ms / 1000.0
-        while not self.session.done and time.perf_counter() - t0 < budget:
-            self.session.step()
-        pr = self._figures()
-        self._write(final=self.session.done)
-        tick_ms = 1000 * (time.perf_counter() - t0)
-        last_run["ticks"] += 1
-        last_run["max_tick_ms"] = max(last_run["max_tick_ms"], tick_ms)
+        try:
+            self.runner.check()
+        except RuntimeError as e:
+            self.report({"ERROR"}, str(e))
+            return self._finish(context, "failed")
+        snap = self.runner.snapshot()
+        if snap.final is not None:
+            return self._finish(context, "done")
+        if snap.version != self.shown:     # strokes as traced so far (hidden lines go at the end)
+            self._write(StrokeSet.from_outlines(snap.outlines, self.line_radius))
+            self.shown = snap.version
+        pr = self._figures(snap.progress)
         done = 100.0 * (1.0 - pr["tasks_left"] / max(self.tasks0, pr["tasks_left"], 1))
         context.window_manager.progress_update(done)
         context.workspace.status_text_set(
             f"BlobTree Ink: iteration {pr['iterations']}, tasks left {pr['tasks_left']}, "
             f"outline length {pr['outline_length']:.3g}  (Esc: stop and keep)")
-        if self.session.done:
-            return self._finish(context, "done")
+        tick_ms = 1000 * (time.perf_counter() - t0)
+        last_run["ticks"] += 1
+        last_run["max_tick_ms"] = max(last_run["max_tick_ms"], tick_ms)
         return {"RUNNING_MODAL"}
 
     def _finish(self, context, state):
+        t0 = time.perf_counter()
+        self.runner.stop()                 # the worker ends after its current iteration, unseen
         wm = context.window_manager
         wm.event_timer_remove(self.timer)
         wm.progress_end()
         context.workspace.status_text_set(None)
-        self._figures()
-        self._write(final=state == "done")
+        snap = self.runner.snapshot()
+        self._figures(snap.progress)
+        warnings = []
+        if state == "done":
+            strokes, warnings = snap.final
+            self._write(strokes)
+        else:                              # keep what was made so far
+            self._write(StrokeSet.from_outlines(snap.outlines, self.line_radius))
+        last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
+        self._report_done(state, warnings)
+        return {"FINISHED"}                # keep what was made, as one undo step
+
+    def _report_done(self, state, warnings=()):
         last_run["state"] = state
+        for w in warnings:
+            self.report({"WARNING"}, w)
         self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes after "
                               f"{last_run['iterations']} iterations")
-        return {"FINISHED"}          # keep what was made, as one undo step
 
 
 classes = (BLOBTREE_INK_OT_illustrate,)

@@ -49,7 +49,7 @@ def run():
     bpy.app.timers.register(other_timer, first_interval=0.1)
     started = time.monotonic()
     with bpy.context.temp_override(window=win, area=view3d, region=region):
-        res = bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES", slice_ms=20)
+        res = bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES")
     record(invoke_result=sorted(res), state_after_invoke=ill.last_run.get("state"))
     yield 1.5
     ink = bpy.data.objects.get("heart Ink")
@@ -77,7 +77,7 @@ def run():
            tree_after_undo="heart" in bpy.data.node_groups)
     # a second run, stopped by editing the tree
     with bpy.context.temp_override(window=win, area=view3d, region=region):
-        bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES", slice_ms=20)
+        bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES")
     yield 1.5
     tree = bpy.data.node_groups["heart"]            # undo replaced the data: fetch it again
     node = [n for n in tree.nodes if getattr(n, "kind", "") == "point"][0]
