@@ -9,9 +9,39 @@ finished (``finished`` is True); after that the caller owns it again. An excepti
 the worker is kept and raised again by :meth:`check` in the caller's thread.
 
 The session and everything it calls is numpy-only; no Blender data is touched here.
+
+While a worker runs, the interpreter's thread switch interval is cut to
+``SWITCH_INTERVAL`` (0.2 ms instead of 5 ms): Blender's main thread takes the GIL for
+every Python callback of its UI (panels, polls, timers, hundreds per redraw), and each
+take waits up to one switch interval for the worker to let go. On Linux the worker
+thread also runs at a lower priority (nice 10) so that the UI's drawing threads win
+the CPU: measured under Xvfb on 2 cores with the heart, a 0.1 s timer fired every
+0.24 s idle, 0.43 s during a run with it and 0.60 s without it.
 """
+import os
+import sys
 import threading
 import time
+
+SWITCH_INTERVAL = 2e-4
+WORKER_NICE = 10             # on Linux the worker yields the CPU to Blender's UI threads
+_active = [0, None]          # running workers, the switch interval to restore
+_active_lock = threading.Lock()
+
+
+def _enter():
+    with _active_lock:
+        if _active[0] == 0:
+            _active[1] = sys.getswitchinterval()
+            sys.setswitchinterval(min(SWITCH_INTERVAL, _active[1]))
+        _active[0] += 1
+
+
+def _leave():
+    with _active_lock:
+        _active[0] -= 1
+        if _active[0] == 0:
+            sys.setswitchinterval(_active[1])
 
 
 class Snapshot:
@@ -39,26 +69,33 @@ class Runner:
 
     def start(self):
         self._t0 = time.perf_counter()
+        _enter()
         self._thread.start()
         return self
 
     def _work(self):
-        version = 0
         try:
-            while not self._stop.is_set() and self.session.step():
-                version += 1
-                snap = Snapshot(self.session.outlines(), self.session.progress(), version,
-                                time.perf_counter() - self._t0)
-                with self._lock:
-                    self._snap = snap
-            if self.session.done and not self._stop.is_set():
-                final = self.finalize() if self.finalize is not None else True
-                snap = Snapshot(self.session.outlines(), self.session.progress(), version + 1,
-                                time.perf_counter() - self._t0, final)
-                with self._lock:
-                    self._snap = snap
+            if sys.platform.startswith("linux"):     # a thread id is a process id only on Linux
+                os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), WORKER_NICE)
+            self._steps()
         except BaseException as e:          # handed to the caller by check()
             self._error = e
+        finally:
+            _leave()
+
+    def _steps(self):
+        version = 0
+        while not self._stop.is_set() and self.session.step():
+            version += 1
+            self._publish(version)
+        if self.session.done and not self._stop.is_set():
+            self._publish(version + 1, self.finalize() if self.finalize is not None else True)
+
+    def _publish(self, version, final=None):
+        snap = Snapshot(self.session.outlines(), self.session.progress(), version,
+                        time.perf_counter() - self._t0, final)
+        with self._lock:
+            self._snap = snap
 
     def snapshot(self):
         with self._lock:

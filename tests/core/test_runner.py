@@ -64,3 +64,14 @@ def test_an_error_on_the_worker_reaches_the_caller(load_example):
     wait(r, lambda: r.finished)
     with pytest.raises(RuntimeError, match="the agents failed: FloatingPointError.*field blew up"):
         r.check()
+
+
+def test_the_switch_interval_is_short_only_while_a_worker_runs(load_example):
+    import sys
+    before = sys.getswitchinterval()
+    s = session(load_example)
+    s.request("OUTLINES")
+    r = Runner(s).start()
+    during = sys.getswitchinterval()
+    wait(r, lambda: r.finished)
+    assert during <= 2e-4 < before and sys.getswitchinterval() == before

@@ -83,7 +83,8 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     assert facts["invoke_result"] == ["RUNNING_MODAL"]           # a modal run, not execute
     assert facts["running_state"] == "running" and facts["strokes_while_running"] > 0
     assert facts["stopped_state"] == "stopped"                  # Esc reached the operator
-    assert facts["strokes_after_esc"] >= facts["strokes_while_running"]   # what was made stays
+    assert facts["strokes_after_esc"] > 0
+    assert facts["length_after_esc"] >= 0.99 * facts["length_while_running"]   # what was made stays
     assert facts["tasks_left_at_stop"] > 0                      # it really was stopped mid-run
     # the UI kept processing events: another timer fired throughout the run
     assert facts["other_timer_ticks"] >= 3 and facts["other_timer_max_gap"] < 5.0

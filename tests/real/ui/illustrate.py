@@ -29,6 +29,19 @@ def strokes_of(name):
     return sum(len(l.frames[0].drawing.strokes) for l in obj.data.layers if len(l.frames))
 
 
+def length_of(name):
+    """Total polyline length of the drawing (stitching may merge strokes; length stays)."""
+    import numpy as np
+    obj = bpy.data.objects.get(name)
+    total = 0.0
+    for layer in (obj.data.layers if obj is not None else []):
+        if len(layer.frames):
+            for st in layer.frames[0].drawing.strokes:
+                p = np.array([q.position for q in st.points])
+                total += float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum()) if len(p) > 1 else 0.0
+    return total
+
+
 def run():
     yield 1.0
     yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
@@ -45,8 +58,8 @@ def run():
     tree = bpy.data.node_groups["heart"]
     tree.ink.grid_resolution = 20
     ill = sys.modules[EXT + ".operators.illustrate"]
-    yield 0.5
     bpy.app.timers.register(other_timer, first_interval=0.1)
+    yield 2.0
     started = time.monotonic()
     with bpy.context.temp_override(window=win, area=view3d, region=region):
         res = bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES")
@@ -61,12 +74,15 @@ def run():
     yield 1.0
     running = dict(ill.last_run)
     n_running = strokes_of("heart Ink")
+    len_running = length_of("heart Ink")
     yield {"action": "screenshot", "name": "illustrate_running.png"}
     yield {"action": "key", "keys": ["Escape"], "pause": 0.5}
     yield 0.5
     stopped = dict(ill.last_run)
     n_after = strokes_of("heart Ink")
+    len_after = length_of("heart Ink")
     gaps = [b - a for a, b in zip(ticks, ticks[1:]) if a >= started]
+    idle = [b - a for a, b in zip(ticks, ticks[1:]) if b < started]
     bpy.app.timers.unregister(other_timer)
     yield {"action": "screenshot", "name": "illustrate_stopped.png"}
     with bpy.context.temp_override(window=win, area=view3d, region=region):
@@ -90,7 +106,8 @@ def run():
     record(edited_state=edited.get("state"))
     record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
            strokes_while_running=n_running, stopped_state=stopped.get("state"),
-           strokes_after_esc=n_after, iterations_at_stop=stopped.get("iterations", 0),
+           strokes_after_esc=n_after, length_while_running=len_running, length_after_esc=len_after,
+           idle_timer_median_gap=sorted(idle)[len(idle) // 2] if idle else None, iterations_at_stop=stopped.get("iterations", 0),
            tasks_left_at_stop=stopped.get("tasks_left"), max_tick_ms=stopped.get("max_tick_ms"),
            ticks=stopped.get("ticks"), other_timer_ticks=len(gaps) + 1,
            other_timer_median_gap=sorted(gaps)[len(gaps) // 2] if gaps else None,
