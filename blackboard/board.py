@@ -2,9 +2,10 @@
 samples agents and the polygonisation put there, per-voxel statistics, and feature
 points (paper section 4).
 
-Voxels live in a dict keyed by the integer triple (the voxel's back-bottom-left
-corner index), mapping to a row of growable arrays; samples are rows of growable
-arrays too, so statistics are vector operations (bincount), not Python loops.
+Voxels are keyed by the integer triple (the voxel's back-bottom-left corner index),
+packed into one int64 and kept in a sorted array beside the voxel rows, so lookups of
+many voxels are one searchsorted, not a Python loop; voxel data and samples are rows
+of growable arrays, so statistics are vector operations (bincount) too.
 """
 import numpy as np
 
@@ -47,13 +48,50 @@ class Grow:
         return self.n
 
 
+_OFF = 1 << 20          # voxel indices from -2^20 to 2^20 - 1 pack into 21 bits each
+
+
+def pack(ijk):
+    ijk = np.asarray(ijk, np.int64) + _OFF
+    if ijk.size and (ijk.min() < 0 or ijk.max() >= 2 * _OFF):
+        raise ValueError("voxel index out of the blackboard's range (|i| < 2^20)")
+    return (ijk[..., 0] << 42) | (ijk[..., 1] << 21) | ijk[..., 2]
+
+
+_NEIGHBOURS = np.array([(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)], np.int64)
+
+
+class VoxelIndex:
+    """Packed voxel keys -> rows: a sorted key array and the rows in the same order."""
+
+    def __init__(self):
+        self.keys = np.zeros(0, np.int64)
+        self.rows = np.zeros(0, np.int64)
+
+    def __len__(self):
+        return len(self.keys)
+
+    def lookup(self, keys):
+        keys = np.asarray(keys, np.int64)
+        if len(self.keys) == 0:
+            return np.full(keys.shape, -1, np.int64)
+        i = np.minimum(np.searchsorted(self.keys, keys), len(self.keys) - 1)
+        return np.where(self.keys[i] == keys, self.rows[i], -1)
+
+    def insert(self, keys, rows):
+        keys = np.concatenate([self.keys, np.asarray(keys, np.int64)])
+        rows = np.concatenate([self.rows, np.asarray(rows, np.int64)])
+        order = np.argsort(keys, kind="stable")
+        self.keys, self.rows = keys[order], rows[order]
+
+
 class Blackboard:
     def __init__(self, grid, iso):
         self.grid = grid
         self.iso = iso
         self.h = float(grid.cell[0])
         self.lo = grid.lo.copy()
-        self.index = {}                       # (i, j, k) -> voxel row
+        self.index = VoxelIndex()             # packed (i, j, k) -> voxel row
         self.vox = Grow(ijk=((3,), np.int64, 0), corners_in=((), np.int8, 0), theta=((), float, 0.0),
                         surface=((), bool, False), features=((), np.int64, 0), samples=((), np.int64, 0),
                         sum=((), float, 0.0), sumsq=((), float, 0.0), fmin=((), float, np.inf),
@@ -69,23 +107,22 @@ class Blackboard:
         return np.floor((np.asarray(P, float) - self.lo) / self.h).astype(np.int64)
 
     def voxel_rows(self, ijk, create=True):
-        """Rows of voxels (k,3) int; missing ones are added when create (else -1)."""
-        ijk = np.atleast_2d(ijk)
-        rows = np.empty(len(ijk), np.int64)
-        new_keys = []
-        for i, key in enumerate(map(tuple, ijk.tolist())):
-            r = self.index.get(key)
-            if r is None:
-                if not create:
-                    rows[i] = -1
-                    continue
-                r = self.vox.n + len(new_keys)
-                self.index[key] = r
-                new_keys.append(key)
-            rows[i] = r
-        if new_keys:
-            self.vox.add(len(new_keys), ijk=np.array(new_keys, np.int64))
-            self._corner_info(np.arange(self.vox.n - len(new_keys), self.vox.n))
+        """Rows of voxels (k,3) int; missing ones are added when create (else -1), in
+        the order they first appear."""
+        ijk = np.atleast_2d(np.asarray(ijk, np.int64))
+        keys = pack(ijk)
+        rows = self.index.lookup(keys)
+        miss = rows < 0
+        if create and miss.any():
+            new, first, inv = np.unique(keys[miss], return_index=True, return_inverse=True)
+            order = np.argsort(first, kind="stable")          # rows in order of first appearance
+            rank = np.empty(len(new), np.int64)
+            rank[order] = np.arange(len(new))
+            new_rows = self.vox.n + rank
+            self.index.insert(new, new_rows)
+            rows[miss] = new_rows[inv.reshape(-1)]
+            self.vox.add(len(new), ijk=ijk[miss][first[order]])
+            self._corner_info(np.arange(self.vox.n - len(new), self.vox.n))
         return rows
 
     def _corner_info(self, rows):
@@ -111,16 +148,8 @@ class Blackboard:
 
     def neighbours(self, rows):
         """(k, 27) rows of the 3x3x3 neighbourhood of each voxel (-1 where absent)."""
-        ijk = self.vox["ijk"][rows]
-        out = np.full((len(rows), 27), -1, np.int64)
-        j = 0
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    keys = map(tuple, (ijk + (dx, dy, dz)).tolist())
-                    out[:, j] = [self.index.get(k, -1) for k in keys]
-                    j += 1
-        return out
+        ijk = self.vox["ijk"][np.asarray(rows, np.int64)]
+        return self.index.lookup(pack(ijk[:, None, :] + _NEIGHBOURS[None, :, :]))
 
     # --- samples --------------------------------------------------------------------
     def add_samples(self, pos, f, grad, kind, curv=None):
