@@ -182,9 +182,12 @@ class Session:
         touched += self._step_traces()
         touched += explore.step(self)
         if touched:
-            rows = np.unique(np.concatenate(touched))
-            nb = self.bb.neighbours(rows)
-            around = np.unique(nb[nb >= 0])
+            mark = np.zeros(self.bb.vox.n, bool)
+            mark[np.concatenate(touched)] = True
+            nb = self.bb.neighbours(np.flatnonzero(mark))
+            mark[:] = False
+            mark[nb[nb >= 0]] = True
+            around = np.flatnonzero(mark)
             if len(self.priority) < self.bb.vox.n:
                 self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
             self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]

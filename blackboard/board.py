@@ -61,6 +61,16 @@ def pack(ijk):
 _NEIGHBOURS = np.array([(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)], np.int64)
 
 
+_CORNERS = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.int64)
+
+
+def _unique_ijk(ijk):
+    """Distinct voxel triples, in packed-key order."""
+    ijk = np.asarray(ijk, np.int64).reshape(-1, 3)
+    _, first = np.unique(pack(ijk), return_index=True)
+    return ijk[first]
+
+
 class VoxelIndex:
     """Packed voxel keys -> rows: a sorted key array and the rows in the same order."""
 
@@ -220,22 +230,19 @@ def from_mesh(mesh: Mesh, ev, curvature_fn):
     bb = Blackboard(mesh.grid, ev.iso)
     cells = mesh.cells
     # surface voxels and their 26 neighbours
-    offs = np.array([(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)])
-    around = np.unique((cells[:, None, :] + offs[None]).reshape(-1, 3), axis=0)
+    around = _unique_ijk((cells[:, None, :] + _NEIGHBOURS[None]).reshape(-1, 3))
     bb.voxel_rows(around)
     srows = bb.voxel_rows(cells)
     bb.vox.cols["surface"][srows] = True
     # corner gradients of surface voxels: the max angle between them (theta_i)
-    corner_ijk = np.unique((cells[:, None, :] + np.array([(x, y, z) for x in (0, 1) for y in (0, 1)
-                                                           for z in (0, 1)])[None]).reshape(-1, 3), axis=0)
+    corners = (cells[:, None, :] + _CORNERS[None]).reshape(-1, 3)
+    corner_ijk = _unique_ijk(corners)
     cpos = mesh.grid.lo + corner_ijk * mesh.grid.cell
     cf, cg = ev.field_grad(cpos)
-    gl = {k: i for i, k in enumerate(map(tuple, corner_ijk.tolist()))}
     unit = cg / np.maximum(np.linalg.norm(cg, axis=1, keepdims=True), 1e-300)
     zero = np.linalg.norm(cg, axis=1) == 0
     theta = np.zeros(len(cells))
-    idx = np.array([[gl[(int(c[0]) + x, int(c[1]) + y, int(c[2]) + z)] for x in (0, 1) for y in (0, 1) for z in (0, 1)]
-                    for c in cells]) if len(cells) else np.zeros((0, 8), int)
+    idx = np.searchsorted(pack(corner_ijk), pack(corners)).reshape(-1, 8)    # corner_ijk is sorted by key
     for i in range(8):
         for j in range(i + 1, 8):
             dot = np.einsum("ij,ij->i", unit[idx[:, i]], unit[idx[:, j]])
