@@ -88,11 +88,20 @@ class Surface:
         A, B, gA, gB = A.copy(), B.copy(), gA.copy(), gB.copy()
         jump = kinds == CREASE
         last = np.zeros(len(A), np.int8)        # which end moved last (Illinois)
+        width = np.linalg.norm(A - B, axis=1)
+        stalls = np.zeros(len(A), np.int64)
         live = np.flatnonzero(valid)
         for _ in range(iters):
             if len(live) == 0:
                 break
             w = np.linalg.norm(A[live] - B[live], axis=1)
+            # a crease bracket whose trial points keep projecting back onto its ends (the
+            # segment leaves the surface: no crease between them) stops, invalid
+            stalls[live] = np.where(w > 0.9 * width[live], stalls[live] + 1, 0)
+            width[live] = w
+            dead = jump[live] & (stalls[live] >= 3)
+            valid[live[dead]] = False
+            live, w = live[~dead], w[~dead]
             live = live[w > tol]
             if len(live) == 0:
                 break

@@ -73,17 +73,22 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     gX = gQ.copy()
     A_out, B_out = Q.copy(), Q.copy()
     nA_out, nB_out = n.copy(), n.copy()
-    todo = np.arange(len(P))
-    for width in (0.5, 1.0, 2.0):
-        if len(todo) == 0:
-            break
-        d = (width * h[todo])[:, None] * W[todo]
-        x, gx, A, B, nA, nB, valid = surface.bisect(kinds[todo], Q[todo] + d, Q[todo] - d, ref[todo], tol)
-        got = todo[valid]
-        X[got], gX[got] = x[valid], gx[valid]
-        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[valid], B[valid], nA[valid], nB[valid]
+    # brackets across the tangent at three widths, solved in one batch; the narrowest
+    # bracket that holds a crossing wins
+    widths = (0.5, 1.0, 2.0)
+    m = len(P)
+    d = np.concatenate([(w * h)[:, None] * W for w in widths])
+    Qw, kw, rw = np.tile(Q, (3, 1)), np.tile(kinds, 3), np.tile(ref, (3, 1))
+    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d, Qw - d, rw, tol)
+    for j in range(len(widths)):
+        sl = slice(j * m, (j + 1) * m)
+        got = np.flatnonzero(valid[sl] & ~found)
+        if len(got) == 0:
+            continue
+        src = j * m + got
+        X[got], gX[got] = x[src], gx[src]
+        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[src], B[src], nA[src], nB[src]
         found[got] = True
-        todo = todo[~valid]
     ok &= found
     fX, _ = surface.field_grad(X)
     ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
