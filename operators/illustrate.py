@@ -210,6 +210,14 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self._report_done(state, warnings)
         return {"FINISHED"}                # keep what was made, as one undo step
 
+    def cancel(self, context):
+        """Blender cancels a modal operator when its window closes or a file loads: the
+        worker stops and the timer goes (no drawing: the data may be gone)."""
+        self.runner.stop()
+        context.window_manager.event_timer_remove(self.timer)
+        context.window_manager.progress_end()
+        last_run["state"] = "cancelled"
+
     def _report_done(self, state, warnings=()):
         last_run["state"] = state
         for w in warnings:
