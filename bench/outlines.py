@@ -3,8 +3,8 @@
     python bench/outlines.py [--models heart,train,shell] [--gt-res 256] [--limit 60]
                              [--grid N] [--agents N]
 
-Ground truth: silhouette and crease points of a dense polygonisation (--gt-res cells
-along the longest side), projected into a 1024-pixel image from a fixed three-quarter
+Ground truth: silhouette and crease points of a dense polygonisation (about --gt-res^3
+cubic cells over the model), projected into a 1024-pixel image from a fixed three-quarter
 view. A crease is a jump of the normal: a dense-mesh edge whose vertex normals differ
 by more than the crease angle is only a candidate (a smooth but tight bend, like the
 heart's veins, does that too); candidates are kept where narrowing the edge to 1e-8 of
@@ -164,7 +164,7 @@ def main():
     ap.add_argument("--gt-res", type=int, default=256)
     ap.add_argument("--limit", type=float, default=60.0)
     ap.add_argument("--grid", type=int, default=None, help="MASSRIS grid (default: the papers' per model)")
-    ap.add_argument("--agents", type=int, default=10, help="MASSRIS agents (default 10)")
+    ap.add_argument("--agents", type=int, default=256, help="MASSRIS agents (default 256, as the session)")
     a = ap.parse_args()
     series = []
     print(f"{'model':7} {'GT px':>7} {'MASSRIS t95':>12} {'baseline t95':>13} {'ratio':>7}  final coverage")

@@ -64,8 +64,9 @@ def surface_box(ev, res=48, pad_cells=1.5):
 
 
 def sample_grid(ev, res, bounds=None, max_bytes=2 * 2**30):
-    """Field at the corners of a cubic-cell grid of about res cells along the longest
-    side of the bounds (default: the surface box)."""
+    """Field at the corners of a cubic-cell grid of about res^3 cells over the bounds
+    (default: the surface box); a cube gets res cells per side, a long model more
+    along its length and fewer across (never more than 4 res along a side)."""
     if not isinstance(res, (int, np.integer)) or not MIN_RES <= res <= MAX_RES:
         raise GridError(f"grid resolution must be a whole number from {MIN_RES} to {MAX_RES}, got {res!r}")
     if bounds is None:
@@ -76,7 +77,9 @@ def sample_grid(ev, res, bounds=None, max_bytes=2 * 2**30):
     ext = hi - lo
     if not np.all(np.isfinite(ext)) or np.any(ext <= 0):
         raise GridError(f"grid bounds must be finite and non-empty, got {lo} .. {hi}")
-    h = ext.max() / res
+    # cubic cells, about res^3 of them over the box (a long thin model gets more cells
+    # along its length, as a cube would), at most 4 res along any side
+    h = max(float(np.prod(ext)) ** (1.0 / 3.0) / res, ext.max() / (4 * res))
     dims = np.maximum(np.ceil(ext / h - 1e-9).astype(int), 1)
     ncorner = int(np.prod(dims + 1))
     need = ncorner * 8 * 8     # corners, coordinates and temporaries

@@ -18,7 +18,7 @@ class BlobTreeNodeTree(bpy.types.NodeTree):
                                  description="The surface is where the field equals this value",
                                  update=lambda self, ctx: _schedule(self))
     preview_resolution: bpy.props.IntProperty(name="Preview Resolution", default=32, min=8, max=128,
-                                              description="Grid cells along the longest side of the preview mesh",
+                                              description="About Resolution^3 cubic cells over the model for the preview mesh",
                                               update=lambda self, ctx: _schedule(self))
     show_preview: bpy.props.BoolProperty(name="Live Preview", default=True,
                                          description="Keep a polygonised preview mesh of the model up to date",
