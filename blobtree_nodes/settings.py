@@ -88,6 +88,7 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
     w_separation: _weight("separation", 0.0)
     w_alignment: _weight("alignment", 0.0)
     w_cohesion: _weight("cohesion", 0.0)
+    w_containment: _weight("containment", 0.0)
     flock_size: bpy.props.IntProperty(name="Flock Size", default=1, min=1, max=64,
                                       description="Smarticles per flock (1: single smarticles)")
     shade_lower: bpy.props.FloatProperty(name="Shade Lower", default=0.25, min=0.0, max=1.0,

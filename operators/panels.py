@@ -61,7 +61,7 @@ def _draw_style(layout, s):
     col.prop(s, "surface")
     col.prop(s, "weights")
     if s.weights == "CUSTOM":
-        for name in ("w_flow", "w_wander", "w_separation", "w_alignment", "w_cohesion"):
+        for name in ("w_flow", "w_wander", "w_separation", "w_alignment", "w_cohesion", "w_containment"):
             col.prop(s, name)
     col.prop(s, "flock_size")
     col = layout.column(align=True)

@@ -44,11 +44,13 @@ class Run:
 
 
 def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, separation_radius=None,
-        headings=None):
+        headings=None, target=None, path=None):
     """Trace one path per start. ``direction_field(P, normals, curv) -> (n,3)`` gives
     the flow field (e.g. a principal direction; ``curv["velocity"]`` is the current
     heading, for fields that keep it). ``headings`` (n,3) are the initial headings (by
-    default the flow field at the start)."""
+    default the flow field at the start). Behaviours with targets: "seek" steers to
+    ``target``, "path" follows the polyline ``path``, "containment" steers back into
+    ``rules.region`` before leaving it."""
     P = np.array(starts, float)
     n = len(P)
     out = Run()
@@ -83,6 +85,16 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
                "velocity": v}
         forces = {"flow": st.flow(direction_field(p, nn, cur), v),
                   "wander": st.wander(v, nn, rng)}
+        if weights.get("seek", 0):
+            if target is None:
+                raise ValueError("the seek behaviour needs a target")
+            forces["seek"] = st.seek(p, target)
+        if weights.get("path", 0):
+            if path is None or len(path) < 2:
+                raise ValueError("the path-following behaviour needs a path of at least two points")
+            forces["path"] = st.path_following(p, v, path, 0.5 * step, 2.0 * step)
+        if weights.get("containment", 0) and rules.region is not None:
+            forces["containment"] = st.containment(p, v, rules.region, 2.0 * step)
         if any(weights.get(w, 0) for w in ("separation", "alignment", "cohesion")):
             forces["separation"] = st.separation(p, flock[idx], sep_r) * step ** 2
             forces["alignment"] = st.alignment(v, flock[idx])

@@ -46,6 +46,34 @@ def seek(P, target):
     return unit(np.asarray(target, float) - P)
 
 
+def path_following(P, V, path, radius, ahead):
+    """Reynolds' path following: predict the position ``ahead`` along the heading; if
+    it is farther than ``radius`` from the path (a polyline), steer to the path point
+    nearest the prediction, moved on along the path by ``ahead``. Zero where on course."""
+    path = np.asarray(path, float)
+    pred = P + unit(V) * ahead
+    a, b = path[:-1], path[1:]
+    ab = b - a
+    L2 = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+    t = np.clip(np.einsum("nij,ij->ni", pred[:, None, :] - a[None], ab) / L2, 0.0, 1.0)
+    near = a[None] + t[..., None] * ab[None]                    # (n, segments, 3)
+    d = np.linalg.norm(near - pred[:, None, :], axis=2)
+    k = d.argmin(axis=1)
+    rows = np.arange(len(P))
+    target = near[rows, k] + unit(ab[k]) * ahead
+    off = d[rows, k] > radius
+    return np.where(off[:, None], unit(target - P), 0.0)
+
+
+def containment(P, V, region, ahead):
+    """Steer back towards the region's centre when the position ``ahead`` along the
+    heading would leave it (a region: agents.Region, a box or a sphere)."""
+    pred = P + unit(V) * ahead
+    out = ~region.contains(pred)
+    centre = region.sphere[0] if region.sphere is not None else 0.5 * (region.box[0] + region.box[1])
+    return np.where(out[:, None], unit(centre - P), 0.0)
+
+
 def separation(P, flock, radius):
     """Steer away from flockmates closer than radius (weighted by inverse distance)."""
     out = np.zeros_like(P)

@@ -18,7 +18,7 @@ from .visibility import split_visible_many
 
 LAYER_SWITCHES = ("outlines", "hatching", "stipples", "chains", "short")
 SURFACES = ("all", "convex", "concave")
-WEIGHT_NAMES = ("flow", "wander", "separation", "alignment", "cohesion")
+WEIGHT_NAMES = ("flow", "wander", "separation", "alignment", "cohesion", "containment")
 
 
 @dataclass

@@ -2,6 +2,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from blobtree_ink import model as M
 from blobtree_ink.strokes import layers, smarticles as sm, steering as st
@@ -117,3 +118,53 @@ def test_hatching_only_in_shade_and_stipples_are_dots():
     assert dots and all(s.dots and len(s.points) == 1 for s in dots)
     P = np.concatenate([s.points for s in dots])
     assert np.abs(ev.field(P) - 0.5).max() < 1e-9
+
+
+def sphere_ev():
+    return ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+
+
+def test_seek_reaches_its_target_on_the_surface():
+    ev = sphere_ev()
+    target = np.array([0.0, K, 0.0])
+    rules = sm.StrokeRules(max_steps=60, max_normal_angle=math.pi, stop_on_curvature_sign=False)
+    res = sm.run(ev, np.array([[K, 0.0, 0.0]]), layers.direction_field("dir1"), 0.02, {"seek": 1.0}, rules,
+                 np.random.default_rng(0), target=target)
+    d = np.linalg.norm(res.paths[0] - target, axis=1)
+    assert d[-1] < 0.03 and d[0] > 0.6
+    assert np.abs(ev.field(res.paths[0]) - 0.5).max() < 1e-6
+    with pytest.raises(ValueError, match="seek behaviour needs a target"):
+        sm.run(ev, np.array([[K, 0.0, 0.0]]), layers.direction_field("dir1"), 0.02, {"seek": 1.0}, rules,
+               np.random.default_rng(0))
+
+
+def test_path_following_keeps_a_wandering_smarticle_on_its_path():
+    ev = sphere_ev()
+    t = np.linspace(0, np.pi, 200)
+    path = np.stack([K * np.cos(t), K * np.sin(t), 0 * t], 1)          # half the equator
+    rules = sm.StrokeRules(max_steps=60, max_normal_angle=math.pi, stop_on_curvature_sign=False)
+    start = np.array([[K, 0.0, 0.0]])
+    head = np.array([[0.0, 1.0, 0.0]])
+
+    def worst(weights):
+        res = sm.run(ev, start, layers.direction_field("straight"), 0.01, weights, rules,
+                     np.random.default_rng(3), headings=head, path=path)
+        return sm.nearest_distance(res.paths[0], path).max()
+    follow = worst({"wander": 0.6, "path": 2.0})
+    drift = worst({"wander": 0.6})
+    assert follow < 0.02 and drift > 3 * follow
+
+
+def test_containment_steers_back_before_leaving_the_region():
+    from blobtree_ink.agents import Region
+    ev = sphere_ev()
+    top = np.array([0.0, 0.0, K])
+    region = Region(sphere=(top, 0.15))
+    rules = sm.StrokeRules(max_steps=150, max_normal_angle=math.pi, stop_on_curvature_sign=False, region=region)
+    kept = sm.run(ev, top[None], layers.direction_field("dir1"), 0.01, {"wander": 0.5, "containment": 3.0}, rules,
+                  np.random.default_rng(1))
+    free = sm.run(ev, top[None], layers.direction_field("dir1"), 0.01, {"wander": 0.5}, rules,
+                  np.random.default_rng(1))
+    assert kept.reasons[0] == "steps" and len(kept.paths[0]) == 151
+    assert region.contains(kept.paths[0]).all()
+    assert free.reasons[0] == "left region" and len(free.paths[0]) < 100
