@@ -76,7 +76,15 @@ def evaluate(node, P, need_grad, prune=True, stats=None):
 
 
 def _box(P):
-    return P.min(axis=1), P.max(axis=1)
+    """The points' bounding box as two tuples of floats (cheap to compare in Python)."""
+    return tuple(P.min(axis=1).tolist()), tuple(P.max(axis=1).tolist())
+
+
+def _node_box(node):
+    box = node.__dict__.get("_box_t")
+    if box is None:
+        box = node._box_t = (tuple(np.asarray(node.lo, float).tolist()), tuple(np.asarray(node.hi, float).tolist()))
+    return box
 
 
 def _sparse(node, P, need_grad, prune, stats, pbox):
@@ -86,13 +94,16 @@ def _sparse(node, P, need_grad, prune, stats, pbox):
     idx = None
     if prune and n:
         plo, phi = pbox if pbox is not None else _box(P)
-        lo, hi = node.lo, node.hi
-        if np.any(phi < lo) or np.any(plo > hi):
+        lo, hi = _node_box(node)
+        if (phi[0] < lo[0] or phi[1] < lo[1] or phi[2] < lo[2] or
+                plo[0] > hi[0] or plo[1] > hi[1] or plo[2] > hi[2]):
             return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
-        if not (np.all(plo >= lo) and np.all(phi <= hi)):
-            m = (P[0] >= lo[0]) & (P[0] <= hi[0])
-            m &= (P[1] >= lo[1]) & (P[1] <= hi[1])
-            m &= (P[2] >= lo[2]) & (P[2] <= hi[2])
+        cut = [k for k in range(3) if plo[k] < lo[k] or phi[k] > hi[k]]
+        if cut:
+            m = None
+            for k in cut:                      # only the axes where some point is outside
+                mk = (P[k] >= lo[k]) & (P[k] <= hi[k])
+                m = mk if m is None else m & mk
             idx = np.flatnonzero(m)
             if len(idx) == 0:
                 return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
@@ -185,6 +196,8 @@ def _extreme(kids, n, need_grad, better, nodes):
     G = np.zeros((3, n)) if need_grad else None
     cover = np.zeros(n, np.int32)
     for idx, f, g in kids:
+        if idx is not None and len(idx) == 0:
+            continue                              # covers no point: 0 everywhere, as "partial" handles
         if idx is None:
             win = better(f, F)
             F = np.where(win, f, F)
