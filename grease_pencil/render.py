@@ -78,7 +78,7 @@ def illustrate(model, out_dir, size=1024, grid=20, agents=256, seed=0, azimuth=3
     write(obj, strokes, frame=sc.frame_current)
     S.setup(sc, centre, eye, size=size, light_dir=light)
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
-    _atomic(paths["png"], lambda tmp: _render_png(sc, tmp))
+    _atomic(paths["png"], lambda tmp: _render_png(sc, tmp, obj))
     _atomic(paths["svg"], lambda tmp: _export_svg(obj, tmp, strokes, sc, 1e-3 * line_radius * (eye - centre)))
     _atomic(paths["blend"], lambda tmp: bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, check_existing=False))
     log(f"strokes: " + ", ".join(f"{k} {len(v)}" for k, v in strokes.layers.items() if v) +
@@ -107,9 +107,20 @@ def _atomic(path, write_fn):
             os.unlink(tmp)
 
 
-def _render_png(sc, tmp):
-    sc.render.filepath = tmp
-    bpy.ops.render.render(write_still=True)
+def _render_png(sc, tmp, obj):
+    """Render the PNG. Blender 5.2's renderer draws nothing for a DOTS material (seen in
+    Workbench, background mode) while a LINE material draws a one-point stroke as a
+    round dot in every version, so the stipples' material is drawn as LINE for the
+    render and set back to DOTS for the saved file."""
+    dots = [m.grease_pencil for m in obj.data.materials if m is not None and m.grease_pencil.mode == "DOTS"]
+    for gpm in dots:
+        gpm.mode = "LINE"
+    try:
+        sc.render.filepath = tmp
+        bpy.ops.render.render(write_still=True)
+    finally:
+        for gpm in dots:
+            gpm.mode = "DOTS"
 
 
 def _export_svg(obj, tmp, strokes, sc, nudge):

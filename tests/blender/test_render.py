@@ -164,3 +164,20 @@ def test_bad_style_options_are_named(ext, example, tmp_path, capsys, args, messa
     assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--grid", "8"] + args) == 1
     assert message in capsys.readouterr().err
     assert not os.listdir(tmp_path)
+
+
+def test_stipples_alone_show_in_the_png(ext, example, tmp_path):
+    """Stipples are one-point DOTS strokes in the .blend and visible in the render."""
+    out = io.StringIO()
+    code = ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--size", "256", "--grid", "12",
+                         "--requests", "stipples"], out=out)
+    assert code == 0, out.getvalue()
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "pear.blend"))
+    gp = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"][0].data
+    dots = gp.layers["Stipples"].frames[0].drawing
+    assert len(dots.strokes) > 50
+    assert {gp.materials[s.material_index].grease_pencil.mode for s in dots.strokes} == {"DOTS"}
+    img = bpy.data.images.load(str(tmp_path / "pear.png"))
+    px = np.array(img.pixels[:]).reshape(img.size[1], img.size[0], 4)
+    dark = (px[..., :3].max(axis=2) < 0.6).sum()
+    assert dark > 100, f"only {dark} dark pixels: the stipples did not render"
