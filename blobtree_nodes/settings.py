@@ -6,7 +6,7 @@ from ..strokes import smarticles as sm
 from ..strokes import style as ST
 
 # Style settings mirrored as properties (the rest of Style keeps its defaults).
-STYLE_PROPS = ("hatching", "stipples", "chains", "short", "hatch_field", "hatch_axis", "cross_hatching",
+STYLE_PROPS = ("hatching", "stipples", "chains", "short", "hatch_field", "hatch_axis", "cross_hatching", "cross_field",
                "surface", "flock_size", "shade_lower", "shade_upper", "chain_step", "chain_angle",
                "stipple_every", "line_width", "contrast")
 RUN_DEFAULTS = dict(grid_resolution=20, agents=256, lod=0.5)
@@ -15,6 +15,7 @@ RUN_DEFAULTS = dict(grid_resolution=20, agents=256, lod=0.5)
 def _preset_values(style):
     v = {k: getattr(style, k) for k in STYLE_PROPS}
     v["hatch_field"] = v["hatch_field"].upper()
+    v["cross_field"] = v["cross_field"].upper()
     v["surface"] = v["surface"].upper()
     if isinstance(style.weights, str):
         v["weights"] = style.weights.upper()
@@ -32,6 +33,7 @@ def style_of(ink):
     """The pure Style of a tree's settings (raises ValueError naming a bad value)."""
     ch = {k: getattr(ink, k) for k in STYLE_PROPS}
     ch["hatch_field"] = ink.hatch_field.lower()
+    ch["cross_field"] = ink.cross_field.lower()
     ch["surface"] = ink.surface.lower()
     ch["hatch_axis"] = tuple(ink.hatch_axis)
     if ink.weights == "CUSTOM":
@@ -39,6 +41,13 @@ def style_of(ink):
     else:
         ch["weights"] = ink.weights.lower()
     return ST.style("outlines", **ch)
+
+
+FIELD_ITEMS = [("DIR1", "First Principal", "Along the first principal direction"),
+               ("DIR2", "Second Principal", "Along the second principal direction"),
+               ("CONTOUR", "Contour", "Across the view direction, like contour lines"),
+               ("AXIS", "Axis", "Along the axis, projected on the surface"),
+               ("STRAIGHT", "Straight", "Keep the initial heading")]
 
 
 def _weight(name, default):
@@ -65,13 +74,10 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
                                    description="Strokes started from the silhouette and crease chains")
     short: bpy.props.BoolProperty(name="Short Strokes", default=False,
                                   description="Short strokes centred on the polygon centres")
-    hatch_field: bpy.props.EnumProperty(
-        name="Flow Field", default="DIR1",
-        items=[("DIR1", "First Principal", "Along the first principal direction"),
-               ("DIR2", "Second Principal", "Along the second principal direction"),
-               ("CONTOUR", "Contour", "Across the view direction, like contour lines"),
-               ("AXIS", "Axis", "Along the axis below, projected on the surface"),
-               ("STRAIGHT", "Straight", "Keep the initial heading")])
+    hatch_field: bpy.props.EnumProperty(name="Flow Field", default="DIR1", items=FIELD_ITEMS,
+                                        description="The direction hatching and short strokes follow")
+    cross_field: bpy.props.EnumProperty(name="Cross Field", default="DIR2", items=FIELD_ITEMS,
+                                        description="The direction of the cross-hatching")
     hatch_axis: bpy.props.FloatVectorProperty(name="Axis", default=(0.0, 0.0, 1.0), size=3, subtype="DIRECTION")
     cross_hatching: bpy.props.BoolProperty(name="Cross-Hatching", default=True,
                                            description="A second hatching layer in the darkest shade")

@@ -24,6 +24,9 @@ def add_parser(sub):
     g.add_argument("--requests", default=None,
                    help="layers to draw, comma-separated, replacing the style's: " + ", ".join(ST.LAYER_SWITCHES))
     g.add_argument("--field", choices=L.FIELDS, default=None, help="flow field of hatching and short strokes")
+    g.add_argument("--cross-field", choices=L.FIELDS, default=None,
+                   help="flow field of the cross-hatching (default dir2)")
+    g.add_argument("--no-cross", action="store_true", help="no cross-hatching")
     g.add_argument("--axis", default=None, help="x,y,z of the axis flow field")
     g.add_argument("--weights", default=None,
                    help=f"steering weights: a preset ({', '.join(sm.PRESETS)}) or name=value pairs, "
@@ -75,6 +78,10 @@ def style_from_args(args):
         ch.update({k: k in req for k in ST.LAYER_SWITCHES})
     if args.field is not None:
         ch["hatch_field"] = args.field
+    if args.cross_field is not None:
+        ch["cross_field"] = args.cross_field
+    if args.no_cross:
+        ch["cross_hatching"] = False
     if args.axis is not None:
         ch["hatch_axis"] = _floats(args.axis, "--axis")
     if args.weights is not None:

@@ -55,9 +55,11 @@ def _draw_style(layout, s):
     row.prop(s, "short", toggle=True)
     col = layout.column(align=True)
     col.prop(s, "hatch_field")
-    if s.hatch_field == "AXIS":
+    if "AXIS" in (s.hatch_field, s.cross_field):
         col.prop(s, "hatch_axis")
     col.prop(s, "cross_hatching")
+    if s.cross_hatching:
+        col.prop(s, "cross_field")
     col.prop(s, "surface")
     col.prop(s, "weights")
     if s.weights == "CUSTOM":

@@ -181,3 +181,20 @@ def test_stipples_alone_show_in_the_png(ext, example, tmp_path):
     px = np.array(img.pixels[:]).reshape(img.size[1], img.size[0], 4)
     dark = (px[..., :3].max(axis=2) < 0.6).sum()
     assert dark > 100, f"only {dark} dark pixels: the stipples did not render"
+
+
+def test_style_options_reach_the_style(ext):
+    import argparse
+    CR = mod(ext, "grease_pencil.cli_render")
+    parser = argparse.ArgumentParser()
+    CR.add_parser(parser.add_subparsers())
+    args = parser.parse_args(["render", "m.json", "--out", "o", "--style", "hatched", "--field", "axis",
+                              "--axis", "1,0,0", "--cross-field", "contour", "--weights", "sketchy",
+                              "--flock-size", "3", "--surface", "concave", "--contrast", "0.25",
+                              "--requests", "hatching,chains"])
+    st = CR.style_from_args(args)
+    assert (st.hatch_field, st.hatch_axis, st.cross_field, st.weights) == ("axis", (1.0, 0.0, 0.0), "contour", "sketchy")
+    assert (st.flock_size, st.surface, st.contrast) == (3, "concave", 0.25)
+    assert st.hatching and st.chains and not (st.outlines or st.stipples or st.short) and st.cross_hatching
+    args = parser.parse_args(["render", "m.json", "--out", "o", "--style", "hatched", "--no-cross"])
+    assert CR.style_from_args(args).cross_hatching is False
