@@ -72,14 +72,17 @@ class Surface:
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
         return s
 
-    def bisect(self, kinds, A, B, ref, tol, iters=60):
+    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None):
         """Zero crossings between bracket ends A, B (on the surface, opposite signs).
 
         Regula falsi with the Illinois modification on the segment A-B, every trial
         point projected onto the surface; creases (where the sign jumps rather than
         crosses zero) are bisected. Returns the crossing (the final bracket end on the
         first end's side, on the surface to rounding), its gradient, the final bracket
-        ends and their normals, and whether each bracket held a sign change."""
+        ends and their normals, and whether each bracket held a sign change. With
+        ``crease_angle``, a crease bracket whose end normals come within half of it is
+        a smooth bend, not a crease: it stops at once, invalid (narrowing a smooth
+        surface only brings the normals closer; a crease keeps them apart)."""
         A, fA, gA = self.project(A)
         B, fB, gB = self.project(B)
         sA = self.signs(kinds, A, gA, ref)
@@ -100,6 +103,12 @@ class Surface:
             stalls[live] = np.where(w > 0.9 * width[live], stalls[live] + 1, 0)
             width[live] = w
             dead = jump[live] & (stalls[live] >= 3)
+            if crease_angle is not None:
+                jl = np.flatnonzero(jump[live] & ~dead)
+                if len(jl):
+                    j = live[jl]
+                    cos = np.einsum("ij,ij->i", self.normals(gA[j]), self.normals(gB[j]))
+                    dead[jl[cos > np.cos(0.5 * crease_angle)]] = True
             valid[live[dead]] = False
             live, w = live[~dead], w[~dead]
             live = live[w > tol]

@@ -39,11 +39,12 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     na, nb = surface.normals(ga), surface.normals(gb)
     ref = na - nb
     eps = 0.25 * float(np.linalg.norm(b - a, axis=1).mean()) if len(a) else 1.0
-    X, gX, A, B, nA, nB, valid = surface.bisect(kinds, a, b, ref, tol)
+    X, gX, A, B, nA, nB, valid = surface.bisect(kinds, a, b, ref, tol, crease_angle=crease_angle)
     cre = np.flatnonzero((kinds == CREASE) & valid)
     if len(cre):
         # creases: bisect once more from the narrowed bracket with its own side normals
-        x2, g2, A2, B2, nA2, nB2, v2 = surface.bisect(kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol)
+        x2, g2, A2, B2, nA2, nB2, v2 = surface.bisect(kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol,
+                                                      crease_angle=crease_angle)
         X[cre[v2]], gX[cre[v2]], A[cre[v2]], B[cre[v2]] = x2[v2], g2[v2], A2[v2], B2[v2]
         nA[cre[v2]], nB[cre[v2]] = nA2[v2], nB2[v2]
     cre = kinds == CREASE
@@ -79,7 +80,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     m = len(P)
     d = np.concatenate([(w * h)[:, None] * W for w in widths])
     Qw, kw, rw = np.tile(Q, (3, 1)), np.tile(kinds, 3), np.tile(ref, (3, 1))
-    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d, Qw - d, rw, tol)
+    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d, Qw - d, rw, tol, crease_angle=crease_angle)
     for j in range(len(widths)):
         sl = slice(j * m, (j + 1) * m)
         got = np.flatnonzero(valid[sl] & ~found)
