@@ -49,11 +49,16 @@ class BlobTreeNode:
     # --- exact values ---------------------------------------------------------------
     def set_exact(self, key, value):
         """Set a property from a double (or a 3-vector of doubles) and remember it."""
-        setattr(self, key, value)
-        stored = getattr(self, key)
-        snap = list(stored) if hasattr(stored, "__len__") else float(stored)
+        self.set_exact_many({key: value})
+
+    def set_exact_many(self, values):
+        """set_exact for several properties, with one write of the record."""
         d = json.loads(self.exact) if self.exact else {}
-        d[key] = [list(value) if hasattr(value, "__len__") else float(value), snap]
+        for key, value in values.items():
+            setattr(self, key, value)
+            stored = getattr(self, key)
+            snap = list(stored) if hasattr(stored, "__len__") else float(stored)
+            d[key] = [list(value) if hasattr(value, "__len__") else float(value), snap]
         self.exact = json.dumps(d)
 
     def value(self, key):
@@ -90,12 +95,13 @@ def _wrap(text, width):
     return lines or [""]
 
 
-def new_input(node, name="Field"):
+def new_input(node, name="Field", fresh=False):
     # an explicit identifier spares Blender its linear search for a free one, which
-    # makes adding sockets to a node with hundreds of inputs quadratic
+    # makes adding sockets to a node with hundreds of inputs quadratic; ``fresh``: the
+    # node's inputs were all made here, in0..in{k-1}, so in{k} is free
     ins = node.inputs
     ident = f"in{len(ins)}"
-    if ident in {s.identifier for s in ins}:
+    if not fresh and ident in {s.identifier for s in ins}:
         ident = f"in{max(int(s.identifier[2:]) for s in ins if s.identifier[2:].isdigit()) + 1}" \
             if any(s.identifier[2:].isdigit() for s in ins) else f"in{len(ins)}x"
     return ins.new(SOCKET, name, identifier=ident)

@@ -7,7 +7,7 @@ import gc
 import json
 
 from ..model import nodes as N
-from . import props
+from . import preview, props
 from .base import new_input
 from .nodes import idname, suspend_socket_updates
 
@@ -21,15 +21,16 @@ def build_tree(tree, model):
     # Blender's whole object graph again and again: pause it while building
     was_enabled = gc.isenabled()
     gc.disable()
-    try:
-        with suspend_socket_updates():
-            made = _build(tree, model)
-    finally:
-        if was_enabled:
-            gc.enable()
-    for bn in made:                       # now give every operator its empty trailing socket
-        if bn.kind in N.OPERATORS:
-            bn.update()
+    with preview.hold():                  # one preview schedule for the whole import
+        try:
+            with suspend_socket_updates():
+                made = _build(tree, model)
+        finally:
+            if was_enabled:
+                gc.enable()
+        for bn in made:                   # now give every operator its empty trailing socket
+            if bn.kind in N.OPERATORS:
+                bn.update()
     return tree
 
 
@@ -59,16 +60,15 @@ def _build(tree, model):
         rows[depth] = y - _height(kind, len(getattr(node, "children", ())))
         if node.name is not None:
             bn.label = node.name
-        for key in props.value_keys(kind):
-            v = getattr(node, key)
-            bn.set_exact(key, list(v) if isinstance(v, tuple) else v)
+        bn.set_exact_many({key: (list(v) if isinstance(v, tuple) else v)
+                           for key in props.value_keys(kind) for v in (getattr(node, key),)})
         pending_links.append((bn, target))
         if kind in N.OPERATORS:
             kids = node.children
             # sockets: the node starts with its own (Base + one, or one); add the rest
             first = 1 if kind == "difference" else 0
             while len(bn.inputs) < len(kids):
-                new_input(bn, "Subtract" if first else "Field")
+                new_input(bn, "Subtract" if first else "Field", fresh=True)
             for child, sock in reversed(list(zip(kids, bn.inputs))):
                 stack.append((child, depth + 1, sock))
         elif kind in N.UNARY:

@@ -6,6 +6,7 @@ The pending rebuilds are module state keyed by tree name (not stored on Blender 
 or on Python wrappers). A broken tree keeps its previous preview and shows its error
 on the offending node.
 """
+import contextlib
 import time
 
 import bpy
@@ -22,7 +23,28 @@ def edits(tree):
     return _edits.get(tree.name, 0)
 
 
+_held = []                       # trees whose edits are being gathered (see hold)
+
+
+@contextlib.contextmanager
+def hold():
+    """Gather edits (e.g. the thousands an importer makes) and schedule each tree's
+    preview once at the end, instead of once per property write."""
+    _held.append(set())
+    try:
+        yield
+    finally:
+        names = _held.pop()
+        for name in names:
+            tree = bpy.data.node_groups.get(name)
+            if tree is not None:
+                schedule(tree)
+
+
 def schedule(tree, delay=DELAY):
+    if _held:
+        _held[-1].add(tree.name)
+        return
     _edits[tree.name] = _edits.get(tree.name, 0) + 1
     _pending[tree.name] = time.monotonic() + delay
     if not bpy.app.timers.is_registered(_tick):

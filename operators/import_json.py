@@ -25,14 +25,15 @@ class BLOBTREE_INK_OT_import_json(bpy.types.Operator, ImportHelper):
         except ModelError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        tree = bpy.data.node_groups.new(model.name, TREE)
-        tree.use_fake_user = True                 # saved with the file though nothing uses it
-        try:
-            build_tree(tree, model)
-        except Exception:
-            bpy.data.node_groups.remove(tree)     # nothing half-made stays behind
-            raise
-        tree.show_preview = self.preview
+        with preview.hold():                      # the whole import is one edit of the tree
+            tree = bpy.data.node_groups.new(model.name, TREE)
+            tree.use_fake_user = True             # saved with the file though nothing uses it
+            try:
+                build_tree(tree, model)
+            except Exception:
+                bpy.data.node_groups.remove(tree)     # nothing half-made stays behind
+                raise
+            tree.show_preview = self.preview
         if self.preview:
             if bpy.app.background:          # no timers tick there: build it now
                 preview.rebuild(tree)

@@ -289,3 +289,14 @@ def test_export_of_a_broken_tree_fails_and_keeps_the_old_file(tmp_path):
     with pytest.raises(RuntimeError, match="Radius must be > 0"):
         bpy.ops.blobtree_ink.export_json(filepath=str(out), tree_name=t.name)
     assert out.read_text() == "old"
+
+
+def test_an_import_schedules_its_preview_once_not_per_property(ext, example):
+    preview = mod(ext, "blobtree_nodes.preview")
+    bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
+    tree = bpy.data.node_groups["heart"]
+    assert len(tree.nodes) == 77                       # hundreds of property writes went into it
+    # the import's hundreds of property writes count as one edit; Blender's own tree
+    # updates after the operator add a couple more
+    assert preview.edits(tree) <= 3
+    assert "heart" in preview.pending()
