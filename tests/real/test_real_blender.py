@@ -88,6 +88,9 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     assert facts["tasks_left_at_stop"] > 0                      # it really was stopped mid-run
     # the UI kept processing events: another timer fired throughout the run
     assert facts["other_timer_ticks"] >= 3 and facts["other_timer_max_gap"] < 5.0
+    # ... at about its idle rate (Xvfb with software GL is slow even idle; the agents'
+    # worker thread shares the 2 cores): the median gap within 4x the idle one
+    assert facts["other_timer_median_gap"] <= 4 * facts["idle_timer_median_gap"] + 0.2
     # one undo removes the whole run, and only the run
     assert facts["strokes_after_undo"] == 0 and facts["ink_object_after_undo"] is False
     assert facts["tree_after_undo"] is True
