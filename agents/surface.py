@@ -11,6 +11,7 @@ import numpy as np
 from ..model.curvature import curvature
 
 SIL, CREASE, CURV = 0, 1, 2
+PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 
 
 class Surface:
@@ -94,7 +95,8 @@ class Surface:
         width = np.linalg.norm(A - B, axis=1)
         stalls = np.zeros(len(A), np.int64)
         live = np.flatnonzero(valid)
-        for _ in range(iters):
+        check = width.copy()                     # width at the last progress check
+        for it in range(iters):
             if len(live) == 0:
                 break
             w = np.linalg.norm(A[live] - B[live], axis=1)
@@ -103,6 +105,11 @@ class Surface:
             stalls[live] = np.where(w > 0.9 * width[live], stalls[live] + 1, 0)
             width[live] = w
             dead = jump[live] & (stalls[live] >= 3)
+            if it and it % PROGRESS_EVERY == 0:
+                # any bracket not down to a quarter in PROGRESS_EVERY iterations is not
+                # converging (its ends jump between surface sheets): it stops, invalid
+                dead |= w > 0.25 * check[live]
+                check[live] = w
             if crease_angle is not None:
                 jl = np.flatnonzero(jump[live] & ~dead)
                 if len(jl):
@@ -137,4 +144,7 @@ class Surface:
             sB[ia[last[ia] == 1]] *= 0.5
             sA[ib[last[ib] == 2]] *= 0.5
             last[ia], last[ib] = 1, 2
+        else:                                    # out of iterations: the unconverged are invalid
+            if len(live):
+                valid[live[np.linalg.norm(A[live] - B[live], axis=1) > tol]] = False
         return A, gA, A, B, self.normals(gA), self.normals(gB), valid
