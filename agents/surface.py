@@ -106,9 +106,11 @@ class Surface:
             width[live] = w
             dead = jump[live] & (stalls[live] >= 3)
             if it and it % PROGRESS_EVERY == 0:
-                # any bracket not down to a quarter in PROGRESS_EVERY iterations is not
-                # converging (its ends jump between surface sheets): it stops, invalid
-                dead |= w > 0.25 * check[live]
+                # a smooth bracket not down to a quarter in PROGRESS_EVERY iterations is
+                # not converging (its ends jump between surface sheets): it stops, invalid
+                # (a crease bracket that cannot narrow still hands its ends to the
+                # caller, which bisects again with the ends' own side normals)
+                dead |= ~jump[live] & (w > 0.25 * check[live])
                 check[live] = w
             if crease_angle is not None:
                 jl = np.flatnonzero(jump[live] & ~dead)
@@ -144,7 +146,8 @@ class Surface:
             sB[ia[last[ia] == 1]] *= 0.5
             sA[ib[last[ib] == 2]] *= 0.5
             last[ia], last[ib] = 1, 2
-        else:                                    # out of iterations: the unconverged are invalid
+        else:                                    # out of iterations: unconverged smooth ones are invalid
             if len(live):
-                valid[live[np.linalg.norm(A[live] - B[live], axis=1) > tol]] = False
+                open_ = (np.linalg.norm(A[live] - B[live], axis=1) > tol) & ~jump[live]
+                valid[live[open_]] = False
         return A, gA, A, B, self.normals(gA), self.normals(gB), valid
