@@ -11,7 +11,7 @@ then traced backwards from its seed.
 """
 import numpy as np
 
-from .surface import CREASE, SIL
+from .surface import CREASE
 
 
 def unit(v):
@@ -62,51 +62,6 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     return X, n, tangent, nA - nB, A, B, valid
 
 
-def secant_zero(surface, Q, gQ, W, h, iters=8, limit=2.0):
-    """Silhouette points near Q: n.v = 0 along Q + t W (every trial projected onto the
-    surface), by the secant method from t = 0 and t = h/4, |t| at most limit h.
-    Superlinear from the predictor's O(h^2) error, so a few projections instead of a
-    bracket's dozen. Returns points, gradients and which converged (|n.v| < 1e-11)."""
-    k = len(Q)
-    kinds = np.full(k, SIL)
-    zero = np.zeros((k, 3))
-    X, G = Q.copy(), gQ.copy()
-    t0, s0 = np.zeros(k), surface.signs(kinds, Q, gQ, zero)
-    conv = np.abs(s0) < 1e-11
-    t1 = 0.25 * h
-    P1, _, g1 = surface.project(Q + t1[:, None] * W)
-    s1 = surface.signs(kinds, P1, g1, zero)
-    X[~conv], G[~conv] = P1[~conv], g1[~conv]
-    live = np.flatnonzero(~conv)
-    for _ in range(iters):
-        hit = np.abs(s1[live]) < 1e-11
-        conv[live[hit]] = True
-        live = live[~hit]
-        if len(live) == 0:
-            break
-        ds = s1[live] - s0[live]
-        good = np.abs(ds) > 1e-300
-        live = live[good]
-        if len(live) == 0:
-            break
-        t2 = t1[live] - s1[live] * (t1[live] - t0[live]) / (s1[live] - s0[live])
-        inside = np.abs(t2) <= limit * h[live]
-        live, t2 = live[inside], t2[inside]
-        if len(live) == 0:
-            break
-        P2, _, g2 = surface.project(Q[live] + t2[:, None] * W[live])
-        s2 = surface.signs(kinds[live], P2, g2, zero[live])
-        t0[live], s0[live] = t1[live], s1[live]
-        t1[live], s1[live] = t2, s2
-        X[live], G[live] = P2, g2
-    hit = np.abs(s1[live]) < 1e-11
-    conv[live[hit]] = True
-    f, _ = surface.field_grad(X[conv]) if conv.any() else (np.zeros(0), None)
-    onto = np.zeros(k, bool)
-    onto[np.flatnonzero(conv)] = np.abs(f - surface.iso) <= 1e-9 * max(surface.iso, 1.0)
-    return X, G, conv & onto
-
-
 def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     """One predictor-corrector step for each task. Returns new points, normals,
     tangents, refs, the team's side positions (A, B) and an ok flag (False: lost)."""
@@ -119,34 +74,22 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     gX = gQ.copy()
     A_out, B_out = Q.copy(), Q.copy()
     nA_out, nB_out = n.copy(), n.copy()
-    # silhouettes: the secant method on n.v along the cross line (each trial projected)
-    sil = np.flatnonzero(kinds == SIL)
-    if len(sil):
-        xs, gs, conv = secant_zero(surface, Q[sil], gQ[sil], W[sil], h[sil])
-        got = sil[conv]
-        X[got], gX[got] = xs[conv], gs[conv]
-        A_out[got], B_out[got] = xs[conv], xs[conv]
-        nA_out[got] = nB_out[got] = surface.normals(gs[conv])
-        found[got] = True
-    # the rest (creases, curvature lines, silhouettes the secant lost): brackets across
-    # the tangent at three widths, solved in one batch; the narrowest that holds a
-    # crossing wins
-    todo = np.flatnonzero(~found)
+    # brackets across the tangent at three widths, solved in one batch; the narrowest
+    # bracket that holds a crossing wins
     widths = (0.5, 1.0, 2.0)
-    m = len(todo)
-    if m:
-        d = np.concatenate([(w * h[todo])[:, None] * W[todo] for w in widths])
-        Qw, kw, rw = np.tile(Q[todo], (3, 1)), np.tile(kinds[todo], 3), np.tile(ref[todo], (3, 1))
-        x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d, Qw - d, rw, tol, crease_angle=crease_angle)
-        for j in range(len(widths)):
-            sl = slice(j * m, (j + 1) * m)
-            hit = np.flatnonzero(valid[sl] & ~found[todo])
-            if len(hit) == 0:
-                continue
-            got, src = todo[hit], j * m + hit
-            X[got], gX[got] = x[src], gx[src]
-            A_out[got], B_out[got], nA_out[got], nB_out[got] = A[src], B[src], nA[src], nB[src]
-            found[got] = True
+    m = len(P)
+    d = np.concatenate([(w * h)[:, None] * W for w in widths])
+    Qw, kw, rw = np.tile(Q, (3, 1)), np.tile(kinds, 3), np.tile(ref, (3, 1))
+    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d, Qw - d, rw, tol, crease_angle=crease_angle)
+    for j in range(len(widths)):
+        sl = slice(j * m, (j + 1) * m)
+        got = np.flatnonzero(valid[sl] & ~found)
+        if len(got) == 0:
+            continue
+        src = j * m + got
+        X[got], gX[got] = x[src], gx[src]
+        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[src], B[src], nA[src], nB[src]
+        found[got] = True
     ok &= found
     fX, _ = surface.field_grad(X)
     ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
