@@ -220,3 +220,40 @@ def test_bad_requests_and_regions():
         Region(sphere=((0, 0, 0), -1))
     with pytest.raises(ValueError, match="exactly one of eye"):
         View()
+
+
+def test_brackets_that_cannot_converge_are_given_up():
+    from blobtree_ink.agents.surface import CREASE, SIL, Surface
+    r = math.sqrt(1 - 0.5 ** (1 / 3))
+
+    class Sheets(Surface):
+        """Every trial point lands back on one of two fixed points (two sheets): the
+        bracket can never narrow."""
+        calls = 0
+
+        def project(self, P, steps=6, max_step=None):
+            Sheets.calls += 1
+            P = np.asarray(P, float)
+            Q = np.where((P[:, :1] < 0), [[-1.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]])
+            g = np.where((P[:, :1] < 0), [[0.0, -1.0, 0.0]], [[0.0, 1.0, 0.0]])
+            return Q, np.full(len(P), self.iso), g
+
+    ev = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
+    surf = Sheets(ev, View(eye=(0.0, -6.0, 0.0)))
+    A, B = np.array([[-1.0, 0.0, 0.0]]), np.array([[1.0, 0.0, 0.0]])
+    res = surf.bisect(np.array([SIL]), A, B, np.zeros((1, 3)), 1e-8 * ev.scale)
+    assert not res[-1][0]
+    assert Sheets.calls < 12                     # given up after a few iterations, not 60
+    # a smooth bend taken for a crease: the ends' normals meet as it narrows
+    one = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
+    surf = Surface(one, View(eye=(0.0, -6.0, 0.0)))
+    A, B = np.array([[r, 0.0, 0.0]]), np.array([[0.0, r, 0.0]])
+    ref = np.array([[1.0, -1.0, 0.0]])
+    res = surf.bisect(np.array([CREASE]), A, B, ref, 1e-8 * one.scale, crease_angle=math.radians(35))
+    assert not res[-1][0]
+    # a real crease (the CSG circle) is still found
+    diff = M.Evaluator(model_of({"type": "difference", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.5},
+        {"type": "point", "center": [0.6, 0, 0], "radius": 1.2}]}))
+    s = run(diff, View(eye=(4, -6, 3)), resolution=20)
+    assert [o for o in s.outlines() if o.kind == "crease"]
