@@ -31,26 +31,32 @@ class Surface:
             return P, np.zeros(0), np.zeros((0, 3))
         max_step = max_step if max_step is not None else 0.05 * self.scale
         f, g = self.ev.field_grad(P)
+        tol = 1e-14 * max(1.0, self.iso)
+        live = np.arange(len(P))
         for _ in range(steps):
-            gg = np.einsum("ij,ij->i", g, g)
-            ok = (gg > 1e-300) & (np.abs(f - self.iso) > 1e-14 * max(1.0, self.iso))
-            if not ok.any():
+            # only the points not yet on the surface are stepped (and evaluated)
+            fl, gl = f[live], g[live]
+            gg = np.einsum("ij,ij->i", gl, gl)
+            ok = (gg > 1e-300) & (np.abs(fl - self.iso) > tol)
+            live, fl, gl, gg = live[ok], fl[ok], gl[ok], gg[ok]
+            if len(live) == 0:
                 break
-            d = np.zeros_like(P)
-            d[ok] = -((f[ok] - self.iso) / gg[ok])[:, None] * g[ok]
+            d = -((fl - self.iso) / gg)[:, None] * gl
             L = np.linalg.norm(d, axis=1)
             d *= np.where(L > max_step, max_step / np.maximum(L, 1e-300), 1.0)[:, None]
-            Q = P + d
+            Q = P[live] + d
             fq, gq = self.ev.field_grad(Q)
-            better = np.abs(fq - self.iso) <= np.abs(f - self.iso)
+            better = np.abs(fq - self.iso) <= np.abs(fl - self.iso)
             # where a full step overshoots, take half of it once
-            worse = ~better & ok
-            if worse.any():
-                Q2 = P[worse] + 0.5 * d[worse]
+            worse = np.flatnonzero(~better)
+            if len(worse):
+                Q2 = P[live[worse]] + 0.5 * d[worse]
                 f2, g2 = self.ev.field_grad(Q2)
                 Q[worse], fq[worse], gq[worse] = Q2, f2, g2
-                better[worse] = np.abs(f2 - self.iso) <= np.abs(f[worse] - self.iso)
-            P[better], f[better], g[better] = Q[better], fq[better], gq[better]
+                better[worse] = np.abs(f2 - self.iso) <= np.abs(fl[worse] - self.iso)
+            moved = live[better]
+            P[moved], f[moved], g[moved] = Q[better], fq[better], gq[better]
+            live = moved          # a point that could not improve stays where it is
         return P, f, g
 
     @staticmethod

@@ -1,7 +1,8 @@
 """Rough polygonisation of the iso-surface: vectorised surface nets on a regular grid.
 
-One vertex per surface cell (the mean of its edge crossings, found by linear
-interpolation, then optionally moved onto the surface by a few Newton steps), and one
+One vertex per surface cell (the mean of its edge crossings, each crossing found by
+regula falsi along its grid edge, then moved onto the surface by a few Newton steps;
+a cell whose mean cannot reach the surface takes one of its crossings), and one
 quad per sign-changing grid edge joining the four cells around it, oriented so that
 its normal points out of the solid (counter-clockwise seen from outside).
 """
@@ -98,6 +99,37 @@ def polygonise(ev, res, bounds=None, project_steps=3):
     return mesh_from_grid(ev, grid, project_steps)
 
 
+def _refine_crossings(ev, A, B, fA, fB, iters=12):
+    """Points where f = iso on the segments A-B (fA, fB on opposite sides of iso), by
+    regula falsi with the Illinois rule, batched (field values only). A compact kernel
+    is far from linear across a cell: linear interpolation alone can put a crossing
+    outside the support or on the flat core of a primitive (f = 0 or 1, no gradient)."""
+    iso = ev.iso
+    a, b = fA - iso, fB - iso
+    lo_t, hi_t = np.zeros(len(A)), np.ones(len(A))
+    t = a / (a - b)
+    last = np.zeros(len(A), np.int8)
+    live = np.arange(len(A))
+    for _ in range(iters):
+        if len(live) == 0:
+            break
+        tl = np.clip(t[live], lo_t[live] + 1e-12, hi_t[live] - 1e-12)
+        fm = ev.field(A[live] + tl[:, None] * (B[live] - A[live])) - iso
+        t[live] = tl
+        same_a = (fm >= 0) == (a[live] >= 0)
+        ia, ib = live[same_a], live[~same_a]
+        lo_t[ia], a[ia] = tl[same_a], fm[same_a]
+        hi_t[ib], b[ib] = tl[~same_a], fm[~same_a]
+        b[ia[last[ia] == 1]] *= 0.5
+        a[ib[last[ib] == 2]] *= 0.5
+        last[ia], last[ib] = 1, 2
+        done = (fm == 0) | (hi_t[live] - lo_t[live] < 1e-9)
+        live = live[~done]
+        if len(live):
+            t[live] = lo_t[live] + a[live] / (a[live] - b[live]) * (hi_t[live] - lo_t[live])
+    return A + t[:, None] * (B - A)
+
+
 def mesh_from_grid(ev, grid, project_steps=3):
     f, iso, h, lo = grid.field, ev.iso, grid.cell, grid.lo
     nx, ny, nz = grid.res
@@ -106,6 +138,7 @@ def mesh_from_grid(ev, grid, project_steps=3):
     cell_cnt = np.zeros((nx, ny, nz))
     cell_any = np.zeros((nx, ny, nz, 3))     # one edge crossing of each cell
     edge_lists = []
+    crossings = []
     for a in range(3):
         sl0 = [slice(None)] * 3
         sl1 = [slice(None)] * 3
@@ -114,9 +147,23 @@ def mesh_from_grid(ev, grid, project_steps=3):
         f0, f1 = f[tuple(sl0)], f[tuple(sl1)]
         change = inside[tuple(sl0)] != inside[tuple(sl1)]
         ijk = np.argwhere(change)                      # lower corner of each crossing edge
-        t = (iso - f0[change]) / (f1[change] - f0[change])
-        pts = lo + ijk * h
-        pts[:, a] += t * h[a]
+        crossings.append((a, ijk, f0[change], f1[change]))
+        edge_lists.append((a, ijk, inside[tuple(sl0)][change]))
+    # every crossing edge refined in one batch
+    A = np.concatenate([lo + ijk * h for _, ijk, _, _ in crossings])
+    step = np.concatenate([np.tile(np.eye(3)[a] * h, (len(ijk), 1)) for a, ijk, _, _ in crossings])
+    fa = np.concatenate([c[2] for c in crossings])
+    fb = np.concatenate([c[3] for c in crossings])
+    refined = _refine_crossings(ev, A, A + step, fa, fb) if project_steps else None
+    start = 0
+    for a, ijk, f0c, f1c in crossings:
+        if refined is not None:
+            pts = refined[start:start + len(ijk)]
+        else:
+            t = (iso - f0c) / (f1c - f0c)
+            pts = lo + ijk * h
+            pts[:, a] += t * h[a]
+        start += len(ijk)
         # the (up to) four cells around the edge
         b, c = (a + 1) % 3, (a + 2) % 3
         for db in (-1, 0):
@@ -131,7 +178,6 @@ def mesh_from_grid(ev, grid, project_steps=3):
                     cell_sum[..., k].flat[:] += np.bincount(flat, weights=pts[ok, k], minlength=cell_cnt.size)
                     cell_any[..., k].flat[flat] = pts[ok, k]
                 cell_cnt.flat[:] += np.bincount(flat, minlength=cell_cnt.size)
-        edge_lists.append((a, ijk, inside[tuple(sl0)][change]))
     active = cell_cnt > 0
     vid = np.full(grid.res, -1, np.int64)
     cells = np.argwhere(active)
@@ -156,12 +202,14 @@ def mesh_from_grid(ev, grid, project_steps=3):
         quads.append(q)
     quads = np.concatenate(quads) if quads else np.zeros((0, 4), np.int64)
     if project_steps and len(verts):
-        # a thin feature can put the mean of a cell's crossings in empty space (no
-        # gradient to follow): start those from one of the cell's own crossings
-        fv = ev.field(verts)
-        lost = fv == 0
-        verts[lost] = cell_any[active][lost]
         verts = project(ev, verts, steps=project_steps, max_step=h.max())
+        # the mean of a cell's crossings can lie in empty space or on the flat core of a
+        # primitive (no gradient to follow) and stay off the surface: such a cell takes
+        # one of its own (refined, on-surface) crossings instead
+        fv, gv = ev.field_grad(verts)
+        bad = (np.abs(fv - iso) > 1e-6 * max(1.0, abs(iso))) | ~(np.einsum("ij,ij->i", gv, gv) > 0)
+        if bad.any():
+            verts[bad] = project(ev, cell_any[active][bad], steps=project_steps, max_step=h.max())
     return Mesh(vertices=verts, quads=quads, cells=cells, grid=grid)
 
 

@@ -2,9 +2,11 @@
 
 The optimised plan (the default) folds rigid and uniformly scaled transforms into the
 primitives below them, flattens nested operators of one kind and gathers the primitive
-children of each blend, union and ricci into vectorised :class:`~.groups.Group`s. The
-naive plan maps the tree one to one (every node, every point): it is the reference the
-optimised plan must equal, and the baseline of ``bench/field.py``.
+children of each blend, union and ricci into vectorised :class:`~.groups.Group`s (the
+subtracted children of a difference are pooled as their union, which is all a
+difference takes of them). The naive plan maps the tree one to one (every node, every
+point): it is the reference the optimised plan must equal, and the baseline of
+``bench/field.py``.
 
 Support bounds are conservative boxes, in each node's input coordinates, outside of
 which the node's field is exactly 0; value bounds ``[vlo, vhi]`` make that sound for
@@ -117,6 +119,10 @@ class _Builder:
         if self.optimize:
             kids = self._flatten(op, n, kids)
             kids = self._group(op, n, kids)
+            if op == "difference" and len(kids) > 2:
+                # the subtracted children act as their union (max): pool them like one
+                sub = self._group("union", 1.0, self._flatten("union", 1.0, kids[1:]))
+                kids = [kids[0], sub[0] if len(sub) == 1 else Op("union", sub, self.iso)]
             if len(kids) == 1 and op in ("blend", "union", "intersection"):
                 return kids[0]
         return Op(op, kids, self.iso, n)
