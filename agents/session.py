@@ -24,10 +24,10 @@ from ..model import Evaluator
 from ..model.curvature import curvature
 from . import explore, manager
 from .stitch import stitch
-from .stitch import stitch
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
 
+SELF_GAP = 6        # steps along an outline within which its own points do not stop it
 REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
 
 
@@ -232,7 +232,7 @@ class Session:
                                                  self.settings.crease_angle)
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
-            if self._near_traced(k, X[i], 1.0 * self.step_len, None):
+            if self._near_traced(k, X[i], 1.0 * self.step_len, None) is not None:
                 continue
             need = 2 if k == KIND_ID["crease"] else 1
             agents = tuple(self.free.pop() for _ in range(need))
@@ -240,7 +240,7 @@ class Session:
                         start_ref=ref[i], id=len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration)
             tr.fwd.append(X[i])
             tr.fwd_n.append(n[i])
-            self._remember(k, X[i], tr.id)
+            self._remember(k, X[i], tr.id, 0)
             self.traces.append(tr)
 
     def _step_traces(self):
@@ -271,16 +271,18 @@ class Session:
                 mine = tr.fwd if tr.phase == "fwd" else tr.bwd
                 other_end = tr.start if tr.phase == "fwd" or not tr.fwd else tr.fwd[-1]
                 steps = len(tr.fwd) + len(tr.bwd)
+                arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
                 if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * self.step_len:
                     end = "closed"
-                elif self._near_traced(tr.kind, X[i], 1.0 * self.step_len, tr.id):
-                    end = "joined"             # another outline is already here: stop short
+                elif (hit := self._near_traced(tr.kind, X[i], 1.0 * self.step_len, tr.id, arc)) is not None:
+                    # an outline is here: stop short; come round onto its own seed, it closed
+                    end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
                 elif steps >= self.settings.max_outline_steps:
                     end = "limit"
                 else:
                     mine.append(X[i])
                     (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
-                    self._remember(tr.kind, X[i], tr.id)
+                    self._remember(tr.kind, X[i], tr.id, arc)
                     tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
                     tr.h = min(self.step_len, 1.5 * tr.h)
                     self.bb.consume_near(X[i:i + 1], FEATURE_KINDS[tr.kind], 0.75 * self.h)
@@ -292,7 +294,7 @@ class Session:
             elif end == "closed":
                 tr.closed = True
                 self._finish(tr)
-            elif tr.phase == "fwd" and not self._near_traced(tr.kind, tr.start, 1.0 * self.step_len, tr.id):
+            elif tr.phase == "fwd" and self._near_traced(tr.kind, tr.start, 1.0 * self.step_len, tr.id) is None:
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
                 tr.h = self.step_len
@@ -312,19 +314,28 @@ class Session:
     def _cell(self, p):
         return tuple(np.floor(p / self.step_len).astype(int))
 
-    def _remember(self, kind, p, tid):
-        self.traced[kind].setdefault(self._cell(p), []).append((tid, p))
+    def _remember(self, kind, p, tid, arc):
+        """A traced point, with its outline's id and its step index along the outline
+        (0 the seed, + forwards, - backwards)."""
+        self.traced[kind].setdefault(self._cell(p), []).append((tid, p, arc))
 
-    def _near_traced(self, kind, p, radius, own):
+    def _near_traced(self, kind, p, radius, own, arc=None):
+        """A traced point of this kind within radius of p, as (outline id, step index),
+        or None. Points of the outline
+        ``own`` count only given p's step index ``arc`` and when more than
+        SELF_GAP steps away along the outline (a trace coming round onto its own
+        other end, or its backward half meeting its forward half, stops)."""
         c = self._cell(p)
         table = self.traced[kind]
         for dx in (-1, 0, 1):
             for dy in (-1, 0, 1):
                 for dz in (-1, 0, 1):
-                    for tid, q in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
-                        if tid != own and np.linalg.norm(q - p) < radius:
-                            return True
-        return False
+                    for tid, q, qa in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
+                        if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
+                            continue
+                        if np.linalg.norm(q - p) < radius:
+                            return (tid, qa)
+        return None
 
     # --- results ----------------------------------------------------------------------
     def outlines(self, include_active=True):

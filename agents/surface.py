@@ -11,6 +11,7 @@ import numpy as np
 from ..model.curvature import curvature
 
 SIL, CREASE, CURV = 0, 1, 2
+MARCH = 16                   # samples towards the anchor for a point on a flat field
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 
 
@@ -24,13 +25,22 @@ class Surface:
     def field_grad(self, P):
         return self.ev.field_grad(P)
 
-    def project(self, P, steps=6, max_step=None):
-        """Damped Newton steps along the gradient onto f = iso. Returns P, f, g."""
+    def project(self, P, steps=6, max_step=None, anchor=None):
+        """Damped Newton steps along the gradient onto f = iso. Returns P, f, g.
+
+        A point where the field is flat (no gradient: empty space, or the core of a
+        primitive or of a subtracted one) has no direction to follow; with ``anchor``
+        (a nearby point on the surface for each point) it first moves towards its
+        anchor, to the first of MARCH samples where the field has a gradient."""
         P = np.array(P, float)
         if len(P) == 0:
             return P, np.zeros(0), np.zeros((0, 3))
         max_step = max_step if max_step is not None else 0.05 * self.scale
         f, g = self.ev.field_grad(P)
+        if anchor is not None:
+            flat = np.flatnonzero(~(np.einsum("ij,ij->i", g, g) > 1e-300))
+            if len(flat):
+                self._march(P, f, g, flat, np.asarray(anchor, float)[flat])
         tol = 1e-14 * max(1.0, self.iso)
         live = np.arange(len(P))
         for _ in range(steps):
@@ -59,6 +69,43 @@ class Surface:
             live = moved          # a point that could not improve stays where it is
         return P, f, g
 
+    def _march(self, P, f, g, rows, anchor):
+        """Move P[rows] (in place, with f and g) off a flat field: towards their anchors
+        to the first of MARCH samples where the gradient does not vanish, then along
+        that gradient (uphill when outside, downhill when inside) to the first sign
+        change of f - iso within twice the anchor distance, located by linear
+        interpolation (Newton then finishes; a tiny gradient near a flat core would
+        throw a Newton step far away)."""
+        t = np.arange(1, MARCH + 1) / MARCH
+        P0 = P[rows]
+        reach = 2.0 * np.linalg.norm(anchor - P0, axis=1)
+        S = P0[:, None, :] + t[None, :, None] * (anchor - P0)[:, None, :]
+        fs, gs = self.ev.field_grad(S.reshape(-1, 3))
+        fs, gs = fs.reshape(len(rows), MARCH), gs.reshape(len(rows), MARCH, 3)
+        good = np.einsum("ijk,ijk->ij", gs, gs) > 1e-300
+        has = np.flatnonzero(good.any(axis=1))
+        if len(has) == 0:
+            return
+        first = np.argmax(good[has], axis=1)
+        Pm, fm, gm = S[has, first], fs[has, first], gs[has, first]
+        up = np.where(fm < self.iso, 1.0, -1.0)
+        d = up[:, None] * gm / np.linalg.norm(gm, axis=1, keepdims=True)
+        tt = reach[has, None] * t[None, :]                                   # (k, MARCH)
+        R = Pm[:, None, :] + tt[:, :, None] * d[:, None, :]
+        fr = self.ev.field(R.reshape(-1, 3)).reshape(len(has), MARCH)
+        fr = np.concatenate([fm[:, None], fr], axis=1) - self.iso            # t = 0 first
+        tt = np.concatenate([np.zeros((len(has), 1)), tt], axis=1)
+        flip = (fr[:, 1:] > 0) != (fr[:, :1] > 0)
+        hit = flip.any(axis=1)
+        j = np.argmax(flip, axis=1)
+        k = np.arange(len(has))
+        f0, f1 = fr[k, j], fr[k, j + 1]
+        u = np.where(f1 != f0, f0 / np.where(f1 != f0, f0 - f1, 1.0), 0.0)
+        tc = tt[k, j] + np.clip(u, 0.0, 1.0) * (tt[k, j + 1] - tt[k, j])
+        Pn = np.where(hit[:, None], Pm + tc[:, None] * d, Pm)
+        fn, gn = self.ev.field_grad(Pn)
+        P[rows[has]], f[rows[has]], g[rows[has]] = Pn, fn, gn
+
     @staticmethod
     def normals(g):
         n = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
@@ -79,7 +126,7 @@ class Surface:
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
         return s
 
-    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None):
+    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None, anchor=None):
         """Zero crossings between bracket ends A, B (on the surface, opposite signs).
 
         Regula falsi with the Illinois modification on the segment A-B, every trial
@@ -132,7 +179,7 @@ class Surface:
             a, b = sA[live], sB[live]
             u = np.where(jump[live], 0.5, a / np.where(a - b == 0, 1.0, a - b))
             u = np.clip(u, 0.02, 0.98)
-            M, fM, gM = self.project(A[live] + u[:, None] * (B[live] - A[live]), steps=4)
+            M, fM, gM = self.project(A[live] + u[:, None] * (B[live] - A[live]), steps=4, anchor=A[live])
             sM = self.signs(kinds[live], M, gM, ref[live])
             # a smooth crossing is found when its signed quantity vanishes (to 1e-11;
             # n.v is a cosine, mean curvature is scaled by the model's size)

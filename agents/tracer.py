@@ -2,9 +2,9 @@
 over every tracing task: one step per task per system iteration.
 
 Predictor: move along the current tangent by the step h. Corrector: project onto the
-surface, bracket the outline across the tangent (in the tangent plane, on both sides),
-and bisect the bracket to the outline (every bisection point is projected onto the
-surface). A crease task is a team of two agents, one on each side of the crease (the
+surface, bracket the outline across the tangent (in the tangent plane, on both sides;
+a crease bracket dips into the solid), and bisect the bracket to the outline (every
+bisection point is projected onto the surface). A crease task is a team of two agents, one on each side of the crease (the
 bracket ends): dual tracking. An outline ends when it closes on its start, meets an
 outline of the same kind already traced, or is lost (no bracket); an open outline is
 then traced backwards from its seed.
@@ -34,8 +34,9 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
     tangent and a validity flag (a false alarm, or a smooth bend taken for a crease,
     is not valid)."""
-    a, _, ga = surface.project(a)
-    b, _, gb = surface.project(b)
+    a0 = np.asarray(a, float)
+    a, _, ga = surface.project(a0, anchor=b)
+    b, _, gb = surface.project(b, anchor=a0)
     na, nb = surface.normals(ga), surface.normals(gb)
     ref = na - nb
     eps = 0.25 * float(np.linalg.norm(b - a, axis=1).mean()) if len(a) else 1.0
@@ -65,7 +66,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
 def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     """One predictor-corrector step for each task. Returns new points, normals,
     tangents, refs, the team's side positions (A, B) and an ok flag (False: lost)."""
-    Q, _, gQ = surface.project(P + h[:, None] * T)
+    Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
     n = surface.normals(gQ)
     W = unit(np.cross(n, T))
     ok = np.ones(len(P), bool)
@@ -80,7 +81,12 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     m = len(P)
     d = np.concatenate([(w * h)[:, None] * W for w in widths])
     Qw, kw, rw = np.tile(Q, (3, 1)), np.tile(kinds, 3), np.tile(ref, (3, 1))
-    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d, Qw - d, rw, tol, crease_angle=crease_angle)
+    # a crease bracket dips into the solid by half its half-width: across a sharp
+    # convex edge, an end in the tangent plane over the drop-off would project back
+    # onto the edge itself and never reach the far side
+    sink = np.where(kw == CREASE, 0.5, 0.0)[:, None] * np.linalg.norm(d, axis=1, keepdims=True) * np.tile(n, (3, 1))
+    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d - sink, Qw - d - sink, rw, tol,
+                                                crease_angle=crease_angle, anchor=Qw)
     for j in range(len(widths)):
         sl = slice(j * m, (j + 1) * m)
         got = np.flatnonzero(valid[sl] & ~found)

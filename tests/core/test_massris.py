@@ -231,7 +231,7 @@ def test_brackets_that_cannot_converge_are_given_up():
         bracket can never narrow."""
         calls = 0
 
-        def project(self, P, steps=6, max_step=None):
+        def project(self, P, steps=6, max_step=None, anchor=None):
             Sheets.calls += 1
             P = np.asarray(P, float)
             Q = np.where((P[:, :1] < 0), [[-1.0, 0.0, 0.0]], [[1.0, 0.0, 0.0]])
@@ -257,3 +257,62 @@ def test_brackets_that_cannot_converge_are_given_up():
         {"type": "point", "center": [0.6, 0, 0], "radius": 1.2}]}))
     s = run(diff, View(eye=(4, -6, 3)), resolution=20)
     assert [o for o in s.outlines() if o.kind == "crease"]
+
+
+BODY = {"type": "box", "center": [0, 0, 0], "half_size": [1, 1, 1], "radius": 0.15}
+POCKET = {"type": "box", "center": [0, -1.1, 0], "half_size": [0.3, 0.3, 0.3], "radius": 0.08}
+
+
+@pytest.mark.parametrize("root", [BODY, {"type": "difference", "children": [BODY, POCKET]}],
+                         ids=["rounded box", "box with a pocket"])
+@pytest.mark.parametrize("res", [8, 12])
+def test_rough_polygonisation_vertices_lie_on_the_surface(root, res):
+    """A compact kernel is far from linear across a coarse cell: interpolated crossings
+    (and their means) fell on the flat core of the box, f = 1 and no gradient (every
+    vertex of the rounded box at 8^3)."""
+    from blobtree_ink.blackboard.polygonise import polygonise
+    ev = M.Evaluator(model_of(root))
+    mesh = polygonise(ev, res)
+    f, g = ev.field_grad(mesh.vertices)
+    assert len(f) > 100
+    assert np.abs(f - ev.iso).max() < 1e-6
+    assert np.linalg.norm(g, axis=1).min() > 1e-3
+
+
+@pytest.mark.parametrize("res", [8, 12, 20])
+def test_sharp_rim_of_a_pocket_is_traced_closed(res):
+    """A box cut into a box: the pocket's rim is a sharp convex edge (90 degrees). The
+    bracket end over the pocket lies on the subtracted box's flat core; it used to
+    project back onto the edge and every trace was lost after a step or two."""
+    s = run(model_of({"type": "difference", "children": [BODY, POCKET]}), View(eye=(2.0, -6.0, 1.5)),
+            resolution=res, kinds=("crease",))
+    outs = s.outlines()
+    assert len(outs) == 1 and outs[0].closed
+    rim = outs[0]
+    # on both children's surfaces: the body's face and the pocket's wall
+    for child in (BODY, POCKET):
+        f = M.Evaluator(model_of(child)).field(rim.points)
+        assert np.abs(f - 0.5).max() < 1e-6
+    # a 0.6 square offset by the wall's distance from the pocket's core: straight sides
+    # and quarter circles at the corners
+    off = 0.08 * K
+    perimeter = 4 * 0.6 + 2 * math.pi * off
+    assert 0.97 * perimeter < rim.length <= perimeter
+    assert np.allclose(rim.points[:, 1], -(1 + 0.15 * K), atol=1e-6)
+
+
+def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
+    """Its own points count for a trace only beyond SELF_GAP steps along it: a
+    backward half that meets the forward half stops (it used to go round a small loop
+    for ever)."""
+    from blobtree_ink.agents.session import SELF_GAP
+    s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
+    p = np.array([1.0, 0.0, 0.0])
+    s._remember(0, p, 7, 3)
+    near = p + [0.1 * s.step_len, 0, 0]
+    assert s._near_traced(0, near, s.step_len, 7, 3 + SELF_GAP) is None        # its last steps
+    assert s._near_traced(0, near, s.step_len, 7, 3 + SELF_GAP + 1) == (7, 3)  # its far part
+    assert s._near_traced(0, near, s.step_len, 7, -(SELF_GAP + 1)) == (7, 3)   # backward half
+    assert s._near_traced(0, near, s.step_len, 8) == (7, 3)                    # another outline
+    assert s._near_traced(1, near, s.step_len, 8) is None                      # another kind
+    assert s._near_traced(0, p + [2 * s.step_len, 0, 0], s.step_len, 8) is None
