@@ -41,6 +41,7 @@ class Settings:
     crease_angle: float = float(np.radians(35.0))
     kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines
     explore_steps: int = 16
+    explore_detail: bool = True        # after the edge seeds, explore voxels flagged for detail
     max_outline_steps: int = 20000
     seed: int = 0
 
@@ -125,6 +126,24 @@ class Session:
         self.traced = {k: {} for k in range(len(FEATURE_KINDS))}   # cell -> list of outline ids
         self.requests = []
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
+        self._detail = None         # flagged voxels queued for exploration, once
+
+    def _queue_detail(self):
+        """Once the polygon edges' seeds are traced: explore the voxels the blackboard
+        flags (corner normals that disagree) that no traced outline passes through, in
+        order of priority, for outlines smaller than a grid cell."""
+        self._detail = explore.flagged_voxels(self)
+        if not any(k == "OUTLINES" for k, _ in self.requests) or len(self._detail) == 0:
+            return
+        v = self.bb.vox
+        centres = self.bb.lo + (v["ijk"][self._detail] + 0.5) * self.h
+        rows = self._detail[self._in_regions(centres)]
+        pts = [p for table in self.traced.values() for items in table.values() for _, p, _ in items]
+        if pts:
+            covered = self.bb.voxel_rows(self.bb.voxel_of(np.array(pts)), create=False)
+            rows = rows[~np.isin(rows, covered)]
+        order = rows[np.argsort(-self.priority[rows], kind="stable")]
+        self.explore_queue.extend(int(r) for r in order if int(r) not in self.explored)
 
     # --- requests (Table 1) -----------------------------------------------------------
     def request(self, kind, region=None):
@@ -192,6 +211,9 @@ class Session:
                 self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
             self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
         self.iteration += 1
+        if self.settings.explore_detail and self._detail is None and not self.traces and not self.explorers and not self.explore_queue \
+                and len(self._open_seeds()) == 0:
+            self._queue_detail()
         return True
 
     def run(self, seconds=None, iterations=None):

@@ -316,3 +316,27 @@ def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
     assert s._near_traced(0, near, s.step_len, 8) == (7, 3)                    # another outline
     assert s._near_traced(1, near, s.step_len, 8) is None                      # another kind
     assert s._near_traced(0, p + [2 * s.step_len, 0, 0], s.step_len, 8) is None
+
+
+def test_a_feature_smaller_than_a_cell_is_found_by_exploring_flagged_voxels():
+    """A small sphere near a big one: no polygon edge of a 12^3 grid crosses its
+    silhouette; the voxels whose corner normals disagree on facing the eye are explored
+    once the edge seeds are traced, and its silhouette circle is found and closed."""
+    c = np.array([0.0, -1.0, 0.0])
+    model = model_of({"type": "union", "children": [{"type": "point", "center": [0, 0, 0], "radius": 1.6},
+                                                    {"type": "point", "center": c.tolist(), "radius": 0.2}]})
+    eye = np.array([0.0, -6.0, 0.5])
+    rho = 0.2 * K
+    edges_only = run(model, View(eye=tuple(eye)), resolution=12, explore_detail=False)
+    assert all(np.linalg.norm(o.points - c, axis=1).min() > 2 * rho for o in edges_only.outlines())
+    s = run(model, View(eye=tuple(eye)), resolution=12)
+    assert len(s.explored) > 0
+    small = [o for o in s.outlines() if np.linalg.norm(o.points - c, axis=1).max() < 2 * rho]
+    assert len(small) == 1 and small[0].closed
+    o = small[0]
+    np.testing.assert_allclose(np.linalg.norm(o.points - c, axis=1), rho, atol=1e-6)
+    v = (eye - o.points) / np.linalg.norm(eye - o.points, axis=1, keepdims=True)
+    assert np.abs(np.einsum("ij,ij->i", o.normals, v)).max() < 1e-6
+    d = np.linalg.norm(eye - c)
+    circle = 2 * math.pi * rho * math.sqrt(1 - (rho / d) ** 2)
+    assert 0.95 * circle < o.length <= circle
