@@ -108,14 +108,20 @@ def _reduce(reduce, n_exp, n, pp, f, g):
         G = np.zeros((3, n)) if g is not None else None
         if len(pp) == 0:
             return F, G
-        starts = np.flatnonzero(np.r_[True, pp[1:] != pp[:-1]])
+        change = np.empty(len(pp), bool)
+        change[0] = True
+        np.not_equal(pp[1:], pp[:-1], out=change[1:])
+        starts = np.flatnonzero(change)
         owners = pp[starts]
         seg_max = np.maximum.reduceat(f, starts)
         F[owners] = np.maximum(seg_max, 0.0)
         if g is not None:
-            seg_id = np.repeat(np.arange(len(starts)), np.diff(np.r_[starts, len(pp)]))
+            seg_id = np.cumsum(change) - 1
             hit = np.flatnonzero(f == seg_max[seg_id])
-            _, first = np.unique(seg_id[hit], return_index=True)
+            # the first hit of each segment (hits are in pair order, sorted by point)
+            sh = seg_id[hit]
+            first = np.ones(len(hit), bool)
+            np.not_equal(sh[1:], sh[:-1], out=first[1:])
             win = hit[first]
             G[:, pp[win]] = np.where(f[win] > 0, g[:, win], 0.0)
         return F, G
