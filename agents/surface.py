@@ -11,6 +11,7 @@ import numpy as np
 from ..model.curvature import curvature
 
 SIL, CREASE, CURV = 0, 1, 2
+CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bracket off the estimate
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 
@@ -130,8 +131,13 @@ class Surface:
         """Zero crossings between bracket ends A, B (on the surface, opposite signs).
 
         Regula falsi with the Illinois modification on the segment A-B, every trial
-        point projected onto the surface; creases (where the sign jumps rather than
-        crosses zero) are bisected. Returns the crossing (the final bracket end on the
+        point projected onto the surface. Creases (where the sign jumps rather than
+        crosses zero) take two trial points a little either side of where the ends'
+        tangent planes meet (on curved sheets off the crease by the square of the
+        bracket's width, so a bracket shrinks about twentyfold per iteration once both
+        land near it), or the midpoint after an estimate that did not shrink the
+        bracket below 0.7 (a wide bracket across a sharp wedge shrank by only about
+        0.86 per plain bisection: 40 iterations against 9). Returns the crossing (the final bracket end on the
         first end's side, on the surface to rounding), its gradient, the final bracket
         ends and their normals, and whether each bracket held a sign change. With
         ``crease_angle``, a crease bracket whose end normals come within half of it is
@@ -147,12 +153,16 @@ class Surface:
         last = np.zeros(len(A), np.int8)        # which end moved last (Illinois)
         width = np.linalg.norm(A - B, axis=1)
         stalls = np.zeros(len(A), np.int64)
+        estimate_ok = np.ones(len(A), bool)    # a crease bracket may use the estimate next
+        estimated = np.zeros(len(A), bool)
         live = np.flatnonzero(valid)
         check = width.copy()                     # width at the last progress check
         for it in range(iters):
             if len(live) == 0:
                 break
             w = np.linalg.norm(A[live] - B[live], axis=1)
+            # the crease estimate again unless the last one left the bracket above 0.7 of its width
+            estimate_ok[live] = ~estimated[live] | (w <= 0.7 * width[live])
             # a crease bracket whose trial points keep projecting back onto its ends (the
             # segment leaves the surface: no crease between them) stops, invalid
             stalls[live] = np.where(w > 0.9 * width[live], stalls[live] + 1, 0)
@@ -179,8 +189,26 @@ class Surface:
             a, b = sA[live], sB[live]
             u = np.where(jump[live], 0.5, a / np.where(a - b == 0, 1.0, a - b))
             u = np.clip(u, 0.02, 0.98)
-            M, fM, gM = self.project(A[live] + u[:, None] * (B[live] - A[live]), steps=4, anchor=A[live])
-            sM = self.signs(kinds[live], M, gM, ref[live])
+            trial = A[live] + u[:, None] * (B[live] - A[live])
+            jl = np.flatnonzero(jump[live] & estimate_ok[live])
+            extra = trial[:0]
+            if len(jl):
+                # a crease: the estimate from the two tangent planes, nudged a little
+                # towards each end, two trial points (one per side, one batch)
+                j = live[jl]
+                estimated[live] = False
+                estimated[j] = True
+                X = _crease_estimate(A[j], B[j], self.normals(gA[j]), self.normals(gB[j]), trial[jl])
+                eps = CREASE_NUDGE * np.linalg.norm(B[j] - A[j], axis=1)[:, None]
+                trial[jl] = X + eps * _unit(A[j] - X)
+                extra = X + eps * _unit(B[j] - X)
+            m = len(trial)
+            M, fM, gM = self.project(np.concatenate([trial, extra]), steps=4,
+                                     anchor=np.concatenate([A[live], A[live[jl]]]))
+            rows = np.concatenate([live, live[jl]])
+            sM = self.signs(kinds[rows], M, gM, ref[rows])
+            M2, gM2, sM2, rows2 = M[m:], gM[m:], sM[m:], rows[m:]
+            M, gM, sM = M[:m], gM[:m], sM[:m]
             # a smooth crossing is found when its signed quantity vanishes (to 1e-11;
             # n.v is a cosine, mean curvature is scaled by the model's size)
             hit = ~jump[live] & (np.abs(sM) * np.where(kinds[live] == CURV, self.scale, 1.0) < 1e-11)
@@ -195,6 +223,14 @@ class Surface:
             ia, ib = live[sideA], live[~sideA]
             A[ia], gA[ia], sA[ia] = M[sideA], gM[sideA], sM[sideA]
             B[ib], gB[ib], sB[ib] = M[~sideA], gM[~sideA], sM[~sideA]
+            if len(rows2):
+                # the second trial point: it replaces the end of its side where it narrows the bracket
+                sa2 = (sM2 > 0) == (sA[rows2] > 0)
+                narrowA = sa2 & (np.linalg.norm(M2 - B[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
+                narrowB = ~sa2 & (np.linalg.norm(M2 - A[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
+                ra, rb = rows2[narrowA], rows2[narrowB]
+                A[ra], gA[ra], sA[ra] = M2[narrowA], gM2[narrowA], sM2[narrowA]
+                B[rb], gB[rb], sB[rb] = M2[narrowB], gM2[narrowB], sM2[narrowB]
             # Illinois: halve the stale end's value when the same end moves twice
             sB[ia[last[ia] == 1]] *= 0.5
             sA[ib[last[ib] == 2]] *= 0.5
@@ -204,3 +240,25 @@ class Surface:
                 open_ = (np.linalg.norm(A[live] - B[live], axis=1) > tol) & ~jump[live]
                 valid[live[open_]] = False
         return A, gA, A, B, self.normals(gA), self.normals(gB), valid
+
+
+def _crease_estimate(A, B, nA, nB, mid):
+    """The point of the line where the ends' tangent planes meet that is nearest to the
+    bracket's midpoint (on curved sheets it is off the crease by the square of the
+    bracket's width); the midpoint where the planes are near parallel or the point is
+    further from the midpoint than the bracket is wide."""
+    c = np.einsum("ij,ij->i", nA, nB)
+    det = 1.0 - c * c
+    ra = np.einsum("ij,ij->i", nA, A - mid)
+    rb = np.einsum("ij,ij->i", nB, B - mid)
+    ok = det > 1e-6
+    d = np.where(ok, det, 1.0)
+    al = (ra - c * rb) / d
+    be = (rb - c * ra) / d
+    X = mid + al[:, None] * nA + be[:, None] * nB
+    far = np.linalg.norm(X - mid, axis=1) > np.linalg.norm(B - A, axis=1)
+    return np.where((ok & ~far)[:, None], X, mid)
+
+
+def _unit(v):
+    return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
