@@ -157,6 +157,8 @@ class Surface:
         estimated = np.zeros(len(A), bool)
         live = np.flatnonzero(valid)
         check = width.copy()                     # width at the last progress check
+        check_c = width.copy()                   # the same for crease brackets
+        width0 = width.copy()
         for it in range(iters):
             if len(live) == 0:
                 break
@@ -175,12 +177,30 @@ class Surface:
                 # caller, which bisects again with the ends' own side normals)
                 dead |= ~jump[live] & (w > 0.25 * check[live])
                 check[live] = w
+            if it and it % (2 * PROGRESS_EVERY) == 0:
+                # a crease bracket gets twice as long (it used to oscillate for all 60
+                # iterations between trial points landing off the segment)
+                dead |= jump[live] & (w > 0.25 * check_c[live])
+                check_c[live] = w
             if crease_angle is not None:
                 jl = np.flatnonzero(jump[live] & ~dead)
                 if len(jl):
                     j = live[jl]
                     cos = np.einsum("ij,ij->i", self.normals(gA[j]), self.normals(gB[j]))
                     dead[jl[cos > np.cos(0.5 * crease_angle)]] = True
+                # and the converse: a smooth crossing (n.v, curvature) whose ends' normals
+                # are still apart by half the crease angle once the bracket is down to a
+                # hundredth, and whose signed quantity is still far from zero at both
+                # ends, jumps across a crease (where n.v jumps through zero); the caller
+                # would reject it at the end, after every remaining iteration
+                sl = np.flatnonzero(~jump[live] & ~dead & (w < 0.01 * width0[live]))
+                if len(sl):
+                    j = live[sl]
+                    cos = np.einsum("ij,ij->i", self.normals(gA[j]), self.normals(gB[j]))
+                    far = np.minimum(np.abs(self.signs(kinds[j], A[j], gA[j], ref[j])),
+                                     np.abs(self.signs(kinds[j], B[j], gB[j], ref[j])))
+                    scale = np.where(kinds[j] == CURV, self.scale, 1.0)
+                    dead[sl[(cos < np.cos(0.5 * crease_angle)) & (far * scale > 0.05)]] = True
             valid[live[dead]] = False
             live, w = live[~dead], w[~dead]
             live = live[w > tol]

