@@ -420,3 +420,30 @@ def test_a_silhouette_bracket_across_a_crease_is_given_up_early():
     # and what it keeps is a true silhouette point
     v = s.view.towards_eye(X[valid])
     assert np.abs(np.einsum("ij,ij->i", surf.normals(gX[valid]), v)).max() < 1e-6
+
+
+def test_a_crease_bracket_that_never_narrows_stops():
+    """Trial points that land back near the ends, the bracket's width see-sawing (so it
+    never stalls three times running): a crease bracket not down to a quarter within
+    12 iterations stops, invalid, instead of holding its batch for all 60."""
+    from blobtree_ink.agents.surface import CREASE, Surface
+
+    class SeeSaw(Surface):
+        calls = 0
+
+        def project(self, P, steps=6, max_step=None, anchor=None):
+            SeeSaw.calls += 1
+            P = np.asarray(P, float)
+            left = P[:, :1] < 0.5
+            x = -1.0 if SeeSaw.calls % 2 else -0.8
+            Q = np.where(left, [[x, 0.0, 0.0]], [[1.0, 0.0, 0.0]])
+            g = np.where(left, [[0.0, -1.0, 0.0]], [[0.0, 1.0, 0.0]])
+            return Q, np.full(len(P), self.iso), g
+
+    ev = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
+    surf = SeeSaw(ev, View(eye=(0.0, -6.0, 0.0)))
+    A, B = np.array([[-1.0, 0.0, 0.0]]), np.array([[1.0, 0.0, 0.0]])
+    res = surf.bisect(np.array([CREASE]), A, B, np.array([[0.0, 2.0, 0.0]]), 1e-8 * ev.scale,
+                      crease_angle=math.radians(35))
+    assert not res[-1][0]
+    assert SeeSaw.calls <= 2 + 13
