@@ -9,8 +9,11 @@ Initialisation polygonises the model, fills the blackboard and processes the pol
 edges into approximate feature points. Each system iteration the manager assigns the
 highest-priority tasks to free agents, every busy agent performs one action (a seed
 refinement, a trace step, an exploration step), reports, and the blackboard and the
-priorities of the touched neighbourhoods are updated. Iterations count from zero after
-initialisation, as in the paper.
+priorities of the touched neighbourhoods are updated. Once the polygon edges' seeds are
+traced, free agents explore the voxels the blackboard flags (corner normals that
+disagree) where no outline passes, for features smaller than a cell
+(``Settings.explore_detail``). Iterations count from zero after initialisation, as in
+the paper.
 """
 import time
 from dataclasses import dataclass, field
