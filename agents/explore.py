@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..blackboard.board import FEATURE_KINDS, _CORNERS, _unique_ijk, pack
+from ..blackboard.board import FEATURE_KINDS
 from ..model.curvature import curvature
 from ..strokes import steering as st
 
@@ -32,24 +32,16 @@ def flagged_voxels(session):
     angle (a crease; theta_i of the manager). Polygon edges miss features smaller than
     a cell; these voxels are where agents look for them."""
     s = session
-    cells = s.mesh.cells
-    if len(cells) == 0:
-        return np.zeros(0, np.int64)
-    corners = (cells[:, None, :] + _CORNERS[None]).reshape(-1, 3)
-    uniq = _unique_ijk(corners)
-    idx = np.searchsorted(pack(uniq), pack(corners)).reshape(-1, 8)
-    P = s.mesh.grid.lo + uniq * s.mesh.grid.cell
-    _, g = s.ev.field_grad(P)
-    facing = np.einsum("ij,ij->i", -g, s.view.towards_eye(P))
-    has = np.einsum("ij,ij->i", g, g) > 0
-    front = (facing > 0) & has
-    back = (facing < 0) & has
-    flag = np.zeros(len(cells), bool)
-    if "silhouette" in s.settings.kinds:
-        flag |= front[idx].any(axis=1) & back[idx].any(axis=1)
-    rows = s.bb.voxel_rows(cells, create=False)
+    bb = s.bb
+    rows = bb.surface_rows
+    flag = np.zeros(len(rows), bool)
+    if "silhouette" in s.settings.kinds and len(rows):
+        P = bb.corner_pos.reshape(-1, 3)
+        facing = np.einsum("ij,ij->i", bb.corner_normal.reshape(-1, 3), s.view.towards_eye(P))
+        facing = facing.reshape(len(rows), 8)
+        flag |= (facing > 0).any(axis=1) & (facing < 0).any(axis=1)
     if "crease" in s.settings.kinds:
-        flag |= s.bb.vox["theta"][rows] > s.settings.crease_angle
+        flag |= bb.vox["theta"][rows] > s.settings.crease_angle
     return rows[flag]
 
 

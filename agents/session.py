@@ -214,8 +214,8 @@ class Session:
                 self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
             self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
         self.iteration += 1
-        if self.settings.explore_detail and self._detail is None and not self.traces and not self.explorers and not self.explore_queue \
-                and len(self._open_seeds()) == 0:
+        idle = not (self.traces or self.explorers or self.explore_queue)
+        if self.settings.explore_detail and self._detail is None and idle and len(self._open_seeds()) == 0:
             self._queue_detail()
         return True
 
@@ -346,10 +346,9 @@ class Session:
 
     def _near_traced(self, kind, p, radius, own, arc=None):
         """A traced point of this kind within radius of p, as (outline id, step index),
-        or None. Points of the outline
-        ``own`` count only given p's step index ``arc`` and when more than
-        SELF_GAP steps away along the outline (a trace coming round onto its own
-        other end, or its backward half meeting its forward half, stops)."""
+        or None. Points of the outline ``own`` count only given p's step index ``arc``
+        and when more than SELF_GAP steps away along the outline (a trace coming round
+        onto its own other end, or its backward half meeting its forward half, stops)."""
         c = self._cell(p)
         table = self.traced[kind]
         for dx in (-1, 0, 1):

@@ -16,6 +16,10 @@ MARCH = 16                   # samples towards the anchor for a point on a flat 
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 
 
+def unit(v):
+    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
+
+
 class Surface:
     def __init__(self, ev, view):
         self.ev = ev
@@ -137,14 +141,16 @@ class Surface:
         bracket's width, so a bracket shrinks about twentyfold per iteration once both
         land near it), or the midpoint after an estimate that did not shrink the
         bracket below 0.7 (a wide bracket across a sharp wedge shrank by only about
-        0.86 per plain bisection: 40 iterations against 9). Returns the crossing (the final bracket end on the
-        first end's side, on the surface to rounding), its gradient, the final bracket
-        ends and their normals, and whether each bracket held a sign change. With
+        0.86 per plain bisection: 40 iterations against 9). Returns the crossing (the
+        final bracket end on the first end's side, on the surface to rounding), its
+        gradient, the final bracket ends and their normals, and whether each bracket held a sign change. With
         ``crease_angle``, a crease bracket whose end normals come within half of it is
         a smooth bend, not a crease: it stops at once, invalid (narrowing a smooth
-        surface only brings the normals closer; a crease keeps them apart)."""
-        A, fA, gA = self.project(A)
-        B, fB, gB = self.project(B)
+        surface only brings the normals closer; a crease keeps them apart). ``anchor``:
+        an on-surface point for each bracket (e.g. its centre) towards which an end on
+        a flat field moves first (see :meth:`project`); trial points use the first end."""
+        A, fA, gA = self.project(A, anchor=anchor)
+        B, fB, gB = self.project(B, anchor=anchor)
         sA = self.signs(kinds, A, gA, ref)
         sB = self.signs(kinds, B, gB, ref)
         valid = (sA > 0) != (sB > 0)
@@ -220,8 +226,8 @@ class Surface:
                 estimated[j] = True
                 X = _crease_estimate(A[j], B[j], self.normals(gA[j]), self.normals(gB[j]), trial[jl])
                 eps = CREASE_NUDGE * np.linalg.norm(B[j] - A[j], axis=1)[:, None]
-                trial[jl] = X + eps * _unit(A[j] - X)
-                extra = X + eps * _unit(B[j] - X)
+                trial[jl] = X + eps * unit(A[j] - X)
+                extra = X + eps * unit(B[j] - X)
             m = len(trial)
             M, fM, gM = self.project(np.concatenate([trial, extra]), steps=4,
                                      anchor=np.concatenate([A[live], A[live[jl]]]))
@@ -278,7 +284,3 @@ def _crease_estimate(A, B, nA, nB, mid):
     X = mid + al[:, None] * nA + be[:, None] * nB
     far = np.linalg.norm(X - mid, axis=1) > np.linalg.norm(B - A, axis=1)
     return np.where((ok & ~far)[:, None], X, mid)
-
-
-def _unit(v):
-    return v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)

@@ -4,18 +4,14 @@ over every tracing task: one step per task per system iteration.
 Predictor: move along the current tangent by the step h. Corrector: project onto the
 surface, bracket the outline across the tangent (in the tangent plane, on both sides;
 a crease bracket dips into the solid), and bisect the bracket to the outline (every
-bisection point is projected onto the surface). A crease task is a team of two agents, one on each side of the crease (the
-bracket ends): dual tracking. An outline ends when it closes on its start, meets an
+bisection point is projected onto the surface). A crease task is a team of two agents,
+one on each side of the crease (the bracket ends): dual tracking. An outline ends when it closes on its start, meets an
 outline of the same kind already traced, or is lost (no bracket); an open outline is
 then traced backwards from its seed.
 """
 import numpy as np
 
-from .surface import CREASE
-
-
-def unit(v):
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
+from .surface import CREASE, unit
 
 
 def level_tangent(surface, kinds, X, n, ref, eps):

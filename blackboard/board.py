@@ -250,6 +250,10 @@ def from_mesh(mesh: Mesh, ev, curvature_fn):
             ang[zero[idx[:, i]] | zero[idx[:, j]]] = 0.0
             theta = np.maximum(theta, ang)
     bb.set_theta(srows, theta)
+    # kept per surface voxel for the view-dependent flags of the manager's explorers
+    bb.surface_rows = srows
+    bb.corner_pos = cpos[idx]                                               # (k, 8, 3)
+    bb.corner_normal = np.where(zero[idx][..., None], 0.0, -unit[idx])      # outward, 0: none
     bb.add_samples(cpos, cf, cg, "corner")
     vf, vg = ev.field_grad(mesh.vertices)
     curv = curvature_fn(mesh.vertices, vg)
