@@ -9,7 +9,7 @@ import json
 from ..model import nodes as N
 from . import preview, props
 from .base import new_input
-from .nodes import idname, suspend_socket_updates
+from .nodes import LABEL, idname, suspend_socket_updates
 
 COLUMN = 260.0
 ROW = 60.0
@@ -34,6 +34,37 @@ def build_tree(tree, model):
     return tree
 
 
+class _NamesFromLabels:
+    """Give each new node its final name through its type's label.
+
+    Blender names a new node after its type's label and, if that name is taken, tries
+    "Label.001", "Label.002", ... each against every node: quadratic for a thousand
+    points. Renaming a node afterwards is no cure, as a rename runs a full tree update
+    (as long as adding the node itself). Setting ``bl_label`` on a node sets its type's
+    label, so before each new node the label is set to the name it should get;
+    afterwards every label is restored (also on an error).
+    """
+
+    def __enter__(self):
+        self.counts = {}
+        self.instances = {}                # kind -> a node of that type (to set its label)
+        return self
+
+    def new(self, tree, kind):
+        k = self.counts.get(kind, 0)
+        self.counts[kind] = k + 1
+        inst = self.instances.get(kind)
+        if inst is not None:
+            inst.bl_label = f"{LABEL[kind]}.{k:03d}"
+        node = tree.nodes.new(idname(kind))
+        self.instances.setdefault(kind, node)
+        return node
+
+    def __exit__(self, *exc):
+        for kind, inst in self.instances.items():
+            inst.bl_label = LABEL[kind]
+
+
 def _build(tree, model):
     tree.nodes.clear()
     out = tree.nodes.new("BlobTreeInkOutputNode")
@@ -41,38 +72,16 @@ def _build(tree, model):
     _set_iso(tree, model.iso)
     tree.model_name = model.name
     rows = {}                                  # depth -> next y
-    counts = {}
     where = []
     pending_links = []
     stack = [(model.root, 0, out.inputs[0])]
     made = []
-    while stack:
-        node, depth, target = stack.pop()
-        kind = N.TYPE_NAME[type(node)]
-        bn = tree.nodes.new(idname(kind))
-        # name it at once so that the default name stays free: Blender's search for a
-        # free "Point.NNN" is linear per node, quadratic for a thousand points
-        counts[kind] = counts.get(kind, 0) + 1
-        bn.name = f"{bn.bl_label}.{counts[kind]:03d}"
-        made.append(bn)
-        y = rows.get(depth, 0.0)
-        where.append((-COLUMN * depth, y))
-        rows[depth] = y - _height(kind, len(getattr(node, "children", ())))
-        if node.name is not None:
-            bn.label = node.name
-        bn.set_exact_many({key: (list(v) if isinstance(v, tuple) else v)
-                           for key in props.value_keys(kind) for v in (getattr(node, key),)})
-        pending_links.append((bn, target))
-        if kind in N.OPERATORS:
-            kids = node.children
-            # sockets: the node starts with its own (Base + one, or one); add the rest
-            first = 1 if kind == "difference" else 0
-            while len(bn.inputs) < len(kids):
-                new_input(bn, "Subtract" if first else "Field", fresh=True)
-            for child, sock in reversed(list(zip(kids, bn.inputs))):
-                stack.append((child, depth + 1, sock))
-        elif kind in N.UNARY:
-            stack.append((node.child, depth + 1, bn.inputs[0]))
+    with _NamesFromLabels() as names:     # restored before the links, whose updates see it
+        while stack:
+            node, depth, target = stack.pop()
+            bn = _add_node(tree, names, node, depth, rows, where, stack)
+            made.append(bn)
+            pending_links.append((bn, target))
     # links after all nodes: adding nodes to a tree full of links is slower
     for bn, target in pending_links:
         tree.links.new(bn.outputs[0], target, verify_limits=False)
@@ -87,6 +96,30 @@ def _build(tree, model):
     for n in tree.nodes:
         n.select = False
     return made
+
+
+def _add_node(tree, names, node, depth, rows, where, stack):
+    """Make one node (its properties, position and input sockets); push its children."""
+    kind = N.TYPE_NAME[type(node)]
+    bn = names.new(tree, kind)
+    y = rows.get(depth, 0.0)
+    where.append((-COLUMN * depth, y))
+    rows[depth] = y - _height(kind, len(getattr(node, "children", ())))
+    if node.name is not None:
+        bn.label = node.name
+    bn.set_exact_many({key: (list(v) if isinstance(v, tuple) else v)
+                       for key in props.value_keys(kind) for v in (getattr(node, key),)})
+    if kind in N.OPERATORS:
+        kids = node.children
+        # sockets: the node starts with its own (Base + one, or one); add the rest
+        first = 1 if kind == "difference" else 0
+        while len(bn.inputs) < len(kids):
+            new_input(bn, "Subtract" if first else "Field", fresh=True)
+        for child, sock in reversed(list(zip(kids, bn.inputs))):
+            stack.append((child, depth + 1, sock))
+    elif kind in N.UNARY:
+        stack.append((node.child, depth + 1, bn.inputs[0]))
+    return bn
 
 
 def _set_iso(tree, iso):

@@ -164,7 +164,9 @@ def _after_undo(*_args):
 
 @bpy.app.handlers.persistent
 def _after_load(*_args):
+    # another file: its trees may have the names of the old file's trees
     _pending.clear()
+    _edits.clear()
 
 
 HANDLERS = ((bpy.app.handlers.undo_post, _after_undo), (bpy.app.handlers.redo_post, _after_undo),

@@ -114,6 +114,40 @@ def test_import_layout_is_one_column_per_depth(example):
     assert diff.label == "pear" and {n.label for n in leaves} >= {"belly", "neck", "stalk", "bite"}
 
 
+def test_imported_nodes_get_blenders_names_and_the_labels_come_back(ext, example, monkeypatch):
+    # the importer names nodes through their type's label; afterwards every type
+    # must draw and add with its own label again, also when the build fails midway
+    bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
+    t = bpy.data.node_groups["heart"]
+    nodes_mod = mod(ext, "blobtree_nodes.nodes")
+    kinds = [getattr(n, "kind", "") for n in t.nodes]
+    kind = max(set(kinds), key=kinds.count)           # the commonest type
+    label = nodes_mod.LABEL[kind]
+    names = sorted(n.name for n in t.nodes if getattr(n, "kind", "") == kind)
+    assert len(names) > 10
+    assert names == [label] + [f"{label}.{i:03d}" for i in range(1, len(names))]
+    assert len({n.name for n in t.nodes}) == len(t.nodes)
+    fresh = t.nodes.new(nodes_mod.BY_KIND[kind].bl_idname)
+    assert fresh.bl_label == label and fresh.name == f"{label}.{len(names):03d}"
+    build = mod(ext, "blobtree_nodes.build")
+    calls = [0]
+    real_height = build._height
+
+    def failing_height(kind, n):
+        calls[0] += 1
+        if calls[0] == 40:
+            raise RuntimeError("injected failure")
+        return real_height(kind, n)
+    monkeypatch.setattr(build, "_height", failing_height)
+    tree = bpy.data.node_groups.new("half", "BlobTreeInkNodeTree")
+    with pytest.raises(RuntimeError, match="injected failure"):
+        build.build_tree(tree, mod(ext, "model.format").load(example("heart")))
+    kinds = {n.kind for n in tree.nodes if getattr(n, "kind", "") not in ("", "output")}
+    assert len(kinds) >= 2
+    for kind in kinds:
+        assert tree.nodes.new(nodes_mod.BY_KIND[kind].bl_idname).bl_label == nodes_mod.LABEL[kind]
+
+
 def test_import_rejects_a_broken_file_and_makes_nothing(tmp_path):
     bad = tmp_path / "bad.json"
     bad.write_text('{"format": "blobtree-1", "name": "bad", "root": {"type": "blend", "children": '
