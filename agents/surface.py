@@ -9,6 +9,7 @@ sign, where the mean curvature changes sign.
 import numpy as np
 
 from ..model.curvature import curvature
+from ..model.projection import newton
 
 SIL, CREASE, CURV = 0, 1, 2
 CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bracket off the estimate
@@ -30,8 +31,9 @@ class Surface:
     def field_grad(self, P):
         return self.ev.field_grad(P)
 
-    def project(self, P, steps=6, max_step=None, anchor=None):
-        """Damped Newton steps along the gradient onto f = iso. Returns P, f, g.
+    def project(self, P, steps=8, max_step=None, anchor=None):
+        """Damped Newton steps along the gradient onto f = iso (model.projection; at most
+        ``steps`` field evaluations after the first). Returns P, f, g.
 
         A point where the field is flat (no gradient: empty space, or the core of a
         primitive or of a subtracted one) has no direction to follow; with ``anchor``
@@ -46,32 +48,7 @@ class Surface:
             flat = np.flatnonzero(~(np.einsum("ij,ij->i", g, g) > 1e-300))
             if len(flat):
                 self._march(P, f, g, flat, np.asarray(anchor, float)[flat])
-        tol = 1e-14 * max(1.0, self.iso)
-        live = np.arange(len(P))
-        for _ in range(steps):
-            # only the points not yet on the surface are stepped (and evaluated)
-            fl, gl = f[live], g[live]
-            gg = np.einsum("ij,ij->i", gl, gl)
-            ok = (gg > 1e-300) & (np.abs(fl - self.iso) > tol)
-            live, fl, gl, gg = live[ok], fl[ok], gl[ok], gg[ok]
-            if len(live) == 0:
-                break
-            d = -((fl - self.iso) / gg)[:, None] * gl
-            L = np.linalg.norm(d, axis=1)
-            d *= np.where(L > max_step, max_step / np.maximum(L, 1e-300), 1.0)[:, None]
-            Q = P[live] + d
-            fq, gq = self.ev.field_grad(Q)
-            better = np.abs(fq - self.iso) <= np.abs(fl - self.iso)
-            # where a full step overshoots, take half of it once
-            worse = np.flatnonzero(~better)
-            if len(worse):
-                Q2 = P[live[worse]] + 0.5 * d[worse]
-                f2, g2 = self.ev.field_grad(Q2)
-                Q[worse], fq[worse], gq[worse] = Q2, f2, g2
-                better[worse] = np.abs(f2 - self.iso) <= np.abs(fl[worse] - self.iso)
-            moved = live[better]
-            P[moved], f[moved], g[moved] = Q[better], fq[better], gq[better]
-            live = moved          # a point that could not improve stays where it is
+        newton(self.ev, P, f, g, steps, max_step)
         return P, f, g
 
     def _march(self, P, f, g, rows, anchor):

@@ -10,6 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.projection import newton
+
 MIN_RES, MAX_RES = 2, 512
 
 
@@ -94,7 +96,7 @@ def sample_grid(ev, res, bounds=None, max_bytes=2 * 2**30):
     return Grid(lo=lo, cell=np.full(3, h), res=tuple(int(d) for d in dims), field=f)
 
 
-def polygonise(ev, res, bounds=None, project_steps=3):
+def polygonise(ev, res, bounds=None, project_steps=6):
     grid = sample_grid(ev, res, bounds)
     return mesh_from_grid(ev, grid, project_steps)
 
@@ -130,7 +132,7 @@ def _refine_crossings(ev, A, B, fA, fB, iters=12):
     return A + t[:, None] * (B - A)
 
 
-def mesh_from_grid(ev, grid, project_steps=3):
+def mesh_from_grid(ev, grid, project_steps=6):
     f, iso, h, lo = grid.field, ev.iso, grid.cell, grid.lo
     nx, ny, nz = grid.res
     inside = f >= iso
@@ -213,28 +215,8 @@ def mesh_from_grid(ev, grid, project_steps=3):
     return Mesh(vertices=verts, quads=quads, cells=cells, grid=grid)
 
 
-def project(ev, P, steps=3, max_step=None):
-    """Damped Newton steps along the gradient towards f = iso: each step is clamped in
-    length and halved (up to 4 times) until |f - iso| does not grow."""
+def project(ev, P, steps, max_step=None):
     P = np.array(P, float)
     f, g = ev.field_grad(P)
-    for _ in range(steps):
-        gg = np.einsum("ij,ij->i", g, g)
-        ok = gg > 1e-300
-        d = np.zeros_like(P)
-        d[ok] = -((f[ok] - ev.iso) / gg[ok])[:, None] * g[ok]
-        if max_step is not None:
-            L = np.linalg.norm(d, axis=1)
-            d *= np.where(L > max_step, max_step / np.maximum(L, 1e-300), 1.0)[:, None]
-        todo = np.flatnonzero(ok)
-        for _ in range(5):
-            if len(todo) == 0:
-                break
-            Q = P[todo] + d[todo]
-            fq, gq = ev.field_grad(Q)
-            better = np.abs(fq - ev.iso) <= np.abs(f[todo] - ev.iso)
-            acc = todo[better]
-            P[acc], f[acc], g[acc] = Q[better], fq[better], gq[better]
-            todo = todo[~better]
-            d[todo] *= 0.5
+    newton(ev, P, f, g, steps, max_step)
     return P

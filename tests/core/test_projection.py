@@ -1,0 +1,99 @@
+"""The damped Newton projection onto the iso-surface (model.projection), shared by the
+polygoniser and the agents: points end on the surface, a step that overshoots is
+retried halved in the next evaluation (no extra one), and ``steps`` bounds the number
+of field evaluations."""
+import numpy as np
+
+from blobtree_ink import model as M
+from blobtree_ink.agents.surface import Surface
+from blobtree_ink.blackboard import polygonise as PG
+from blobtree_ink.blackboard.view import View
+from blobtree_ink.model.projection import newton, tolerance
+
+from test_massris import model_of
+
+SPHERE = {"type": "point", "center": [0, 0, 0], "radius": 1.0}
+D_ISO = np.sqrt(1 - 0.5 ** (1 / 3))        # (1 - d^2)^3 = 0.5: the surface's distance
+
+
+class CountingEvaluator:
+    """A real evaluator that counts its field_grad calls and the points they take."""
+
+    def __init__(self, ev):
+        self.ev, self.iso, self.scale, self.calls, self.sizes = ev, ev.iso, ev.scale, 0, []
+
+    def field(self, P):
+        return self.ev.field(P)
+
+    def field_grad(self, P):
+        self.calls += 1
+        self.sizes.append(len(P))
+        return self.ev.field_grad(P)
+
+
+def start_points():
+    rng = np.random.default_rng(3)
+    d = rng.normal(size=(200, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    r = rng.uniform(0.15, 0.93, size=200)      # inside and outside; far out the gradient is tiny
+    return d * r[:, None]
+
+
+def test_points_end_on_the_sphere_within_the_evaluation_budget():
+    ev = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
+    P = start_points()
+    f, g = ev.field_grad(P)
+    made = newton(ev, P, f, g, steps=12)
+    assert made == ev.calls - 1 <= 12
+    assert np.abs(f - 0.5).max() <= tolerance(0.5)
+    np.testing.assert_allclose(np.linalg.norm(P, axis=1), D_ISO, atol=1e-12)
+    np.testing.assert_array_equal(f, ev.ev.field(P))           # f and g follow the points
+    np.testing.assert_array_equal(g, ev.ev.field_grad(P)[1])
+
+
+def test_an_overshooting_step_is_retried_halved_in_the_next_evaluation():
+    # from d = 0.9 the gradient is small: the full Newton step jumps through the centre
+    # to where |f - iso| is larger; it must not be taken, and the halved step costs no
+    # evaluation of its own (each iteration evaluates once)
+    ev = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
+    P = np.array([[0.9, 0.0, 0.0]])
+    f, g = ev.field_grad(P)
+    full = P - ((f - 0.5) / np.einsum("ij,ij->i", g, g))[:, None] * g
+    assert abs(ev.ev.field(full)[0] - 0.5) > abs(f[0] - 0.5)     # the premise: it overshoots
+    newton(ev, P, f, g, steps=20)
+    assert ev.sizes == [1] * ev.calls
+    assert abs(np.linalg.norm(P[0]) - D_ISO) < 1e-12
+    assert ev.calls - 1 <= 12
+
+
+def test_flat_points_stay_and_converged_points_are_not_evaluated_again():
+    ev = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
+    P = np.array([[5.0, 0, 0], [D_ISO, 0, 0], [0.6, 0, 0]])      # empty space, on it, near it
+    f, g = ev.field_grad(P)
+    P0 = P.copy()
+    newton(ev, P, f, g, steps=8)
+    np.testing.assert_array_equal(P[0], P0[0])
+    assert ev.calls > 2 and ev.sizes[1:] == [1] * (ev.calls - 1)     # only the third moves
+    assert abs(f[2] - 0.5) <= tolerance(0.5)
+
+
+def test_the_polygoniser_and_the_agents_project_through_it():
+    # one implementation: both callers' evaluations are newton's (plus their first)
+    ev = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
+    P = start_points()
+    Q = PG.project(ev, P, steps=12)
+    first = ev.calls
+    ev2 = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
+    P2 = P.copy()
+    f2, g2 = ev2.field_grad(P2)
+    newton(ev2, P2, f2, g2, steps=12)
+    np.testing.assert_array_equal(Q, P2)
+    assert first == ev2.calls
+    surf = Surface(CountingEvaluator(M.Evaluator(model_of(SPHERE))), View(eye=(0, -6, 0)))
+    R, f3, _ = surf.project(P, steps=12, max_step=0.3)
+    ev3 = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
+    P3 = P.copy()
+    f3, g3 = ev3.field_grad(P3)
+    newton(ev3, P3, f3, g3, steps=12, max_step=0.3)
+    np.testing.assert_array_equal(R, P3)
+    assert surf.ev.calls == ev3.calls
