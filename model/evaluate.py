@@ -7,9 +7,12 @@ subtree only ever sees the points that can feel it.
 """
 import numpy as np
 
+from . import groups as G
+from . import primitives as PR
 from . import warps as W
 from .groups import Group
 from .plan import Op, Warp, compile_plan
+from .stack import Stack, StackedGroup
 
 CHUNK = 1 << 16
 
@@ -110,6 +113,9 @@ def _sparse(node, P, need_grad, prune, stats, pbox):
             P = P[:, idx]
     if isinstance(node, Group):
         f, g = node.evaluate(P, need_grad, stats)
+    elif isinstance(node, Stack):
+        sub, f, g = _stack(node, P, need_grad, stats)
+        return (sub if idx is None else idx[sub]), f, g
     elif isinstance(node, Warp):
         f, g = _warp(node, P, need_grad, prune, stats)
     else:
@@ -144,21 +150,79 @@ def _op(node, P, need_grad, prune, stats):
     n = P.shape[1]
     box = _box(P) if prune and n else None
     kids = [_sparse(c, P, need_grad, prune, stats, box) for c in node.children]
+    return _combine(node, kids, n, need_grad)
+
+
+def _combine(node, kids, n, need_grad):
+    """An operator's field and gradient from its children's (idx, f, g)."""
     op = node.op
     if op == "blend":
         return _sum(kids, n, need_grad)
     if op == "union":
-        return _extreme(kids, n, need_grad, np.greater, node.children)
+        return _extreme(kids, n, need_grad, np.greater)
     if op == "intersection":
-        return _extreme(kids, n, need_grad, np.less, node.children)
+        return _extreme(kids, n, need_grad, np.less)
     if op == "difference":
         A, gA = _dense(kids[0], n, need_grad)
-        M, gM = _extreme(kids[1:], n, need_grad, np.greater, node.children[1:])
+        M, gM = _extreme(kids[1:], n, need_grad, np.greater)
         B = 2 * node.iso - M
         first = A <= B
         F = np.where(first, A, B)
         return F, (np.where(first, gA, -gM) if need_grad else None)
     return _ricci(kids, n, need_grad, node.n)
+
+
+def _stack(node, P, need_grad, stats):
+    """A Stack at P (3, n): (idx, f, g) over the points some member's box holds."""
+    pp, kk = node.pairs(P)
+    if len(pp) == 0:
+        return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
+    f, g = _shape(node.shape, P[:, pp], kk, need_grad, stats)
+    # pairs are sorted by point, then by member
+    change = np.empty(len(pp), bool)
+    change[0] = True
+    np.not_equal(pp[1:], pp[:-1], out=change[1:])
+    starts = np.flatnonzero(change)
+    owners = pp[starts]
+    if node.reduce == "sum":
+        F = np.add.reduceat(f, starts)
+        return owners, F, (np.add.reduceat(g, starts, axis=1) if need_grad else None)
+    # a union: the largest member value; a member whose box misses the point is 0 there
+    F = np.maximum.reduceat(f, starts)
+    counts = np.diff(np.append(starts, len(pp)))
+    zero = (counts < node.K) & (F < 0.0)
+    G = None
+    if need_grad:
+        seg = np.cumsum(change) - 1
+        hit = np.flatnonzero(f == F[seg])
+        first = np.ones(len(hit), bool)
+        np.not_equal(seg[hit][1:], seg[hit][:-1], out=first[1:])
+        G = g[:, hit[first]]
+        G[:, zero] = 0.0
+    F[zero] = 0.0
+    return owners, F, G
+
+
+def _shape(t, P, kk, need_grad, stats):
+    """A stacked shape at pair points P (3, v), pair p belonging to member kk[p]: every
+    position is evaluated densely (a member is 0 outside its support)."""
+    v = P.shape[1]
+    if isinstance(t, StackedGroup):
+        if t.m == 1:
+            idx, rep, pp = kk, P, None
+        else:
+            pp = np.repeat(np.arange(v), t.m)
+            idx = (kk * t.m)[pp] + np.tile(np.arange(t.m), v)
+            rep = np.repeat(P, t.m, axis=1)
+        if stats is not None:
+            stats.pairs += len(idx)
+        d2, V = PR.dist2(rep, t.prm, idx)
+        f, g = PR.kernel(d2, V, t.prm, idx, need_grad)
+        if pp is None:
+            return G._single(f, g, t.reduce)
+        return G._reduce(t.reduce, t.n, v, pp, f, g)
+    kids = [(None, *_shape(c, P, kk, need_grad, stats)) for c in t.children]
+    return _combine(t, kids, v, need_grad)
 
 
 def _dense(kid, n, need_grad):
@@ -189,7 +253,7 @@ def _sum(kids, n, need_grad):
     return F, G
 
 
-def _extreme(kids, n, need_grad, better, nodes):
+def _extreme(kids, n, need_grad, better):
     """max (better=np.greater) or min (np.less) over children that are 0 outside their
     support; the first child wins ties, as argmax/argmin would."""
     F = np.full(n, -np.inf if better is np.greater else np.inf)

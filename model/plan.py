@@ -4,7 +4,8 @@ The optimised plan (the default) folds rigid and uniformly scaled transforms int
 primitives below them, flattens nested operators of one kind and gathers the primitive
 children of each blend, union and ricci into vectorised :class:`~.groups.Group`s (the
 subtracted children of a difference are pooled as their union, which is all a
-difference takes of them). The naive plan maps the tree one to one (every node, every
+difference takes of them); at least three structurally identical operator subtrees of
+one union or blend (a train's wheels) become one :class:`~.stack.Stack`. The naive plan maps the tree one to one (every node, every
 point): it is the reference the optimised plan must equal, and the baseline of
 ``bench/field.py``.
 
@@ -18,6 +19,7 @@ from . import nodes as N
 from . import primitives as PR
 from . import warps as W
 from .groups import Group
+from .stack import stack_children
 
 INF = np.inf
 EMPTY = (np.full(3, INF), np.full(3, -INF))
@@ -164,4 +166,18 @@ class _Builder:
 
 
 def compile_plan(model, optimize=True):
-    return _Builder(model.iso, optimize).build(model.root)
+    plan = _Builder(model.iso, optimize).build(model.root)
+    return _stack(plan) if optimize else plan
+
+
+def _stack(node):
+    """Stack identical subtrees of every union and blend, once nested operators of one
+    kind are flattened (a stack replaces its members: the node's bounds stay as they
+    are, being the union box and the max or sum of the same members' bounds)."""
+    if isinstance(node, Warp):
+        node.child = _stack(node.child)
+    elif isinstance(node, Op):
+        node.children = [_stack(c) for c in node.children]
+        if node.op in ("blend", "union"):
+            node.children = stack_children(node.children, _REDUCE[node.op])
+    return node

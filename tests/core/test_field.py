@@ -155,3 +155,50 @@ def test_support_bounds_are_conservative(load_example):
         outside = ~np.all((P >= lo) & (P <= hi), axis=1)
         naive = M.Evaluator(load_example(name), optimize=False)
         assert np.all(naive.field(P[outside]) == 0)
+
+
+def _holed(x, y=0.0, strong=3.0):
+    """A disc-like blob with a strong subtracted point: negative near the hole."""
+    return {"type": "difference", "children": [pt((x, y, 0), 1.0), pt((x + 0.3, y, 0), 0.8, strong)]}
+
+
+@pytest.mark.parametrize("op", ["union", "blend"])
+def test_identical_subtrees_are_stacked_and_equal_the_naive_evaluation(op):
+    # five identical differences (two overlapping) and nothing else, so that the stack
+    # alone decides: the members are negative around their holes, where a union must
+    # still give 0 for a point that other members' boxes miss (they are 0 there)
+    kids = [_holed(x) for x in (0.0, 3.0, 6.0, 9.0, 9.5)]
+    root = {"type": op, "children": kids}
+    fast = ev_of(root)
+    naive = M.Evaluator(M.from_dict({"format": "blobtree-1", "root": root}), optimize=False)
+    from blobtree_ink.model.stack import Stack
+    stacks = [c for c in fast.plan.children if isinstance(c, Stack)]
+    assert len(stacks) == 1 and stacks[0].K == 5
+    rng = np.random.default_rng(7)
+    P = np.concatenate([rng.uniform((-1.5, -1.5, -1.2), (11, 4.5, 1.2), size=(4000, 3)),
+                        [[0.3, 0, 0], [9.3, 0, 0], [9.8, 0, 0], [20, 0, 0]]])
+    f1, g1 = fast.field_grad(P)
+    f2, g2 = naive.field_grad(P)
+    np.testing.assert_allclose(f1, f2, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(g1, g2, rtol=0, atol=1e-10)
+    assert (f2 > 0.5).any()
+    hole = np.flatnonzero(ev_of(_holed(0.0)).field(P) < 0)  # where a member is negative
+    assert len(hole) > 10
+    if op == "union":
+        assert np.all(f1[hole] >= 0) and (f1[hole] == 0).any()
+    else:
+        assert (f1[hole] < 0).any()
+    np.testing.assert_array_equal(fast.field(P), f1)
+    for i in (0, 100, 4001, 4002):                         # one point is a batch of one
+        f, g = fast.field_grad(P[i])
+        assert f[0] == f1[i] and np.array_equal(g[0], g1[i])
+
+
+def test_few_or_large_identical_subtrees_are_not_stacked():
+    from blobtree_ink.model.stack import STACK_MAX_PRIMS, Stack
+    two = ev_of({"type": "union", "children": [_holed(0.0), _holed(3.0)]})
+    assert not any(isinstance(c, Stack) for c in two.plan.children)
+    big = [{"type": "difference", "children": [pt((x, 0, 0), 1.0)] +
+            [pt((x + 0.01 * j, 0.3, 0), 0.2, 2.0) for j in range(STACK_MAX_PRIMS)]} for x in (0, 3, 6)]
+    ev = ev_of({"type": "union", "children": big})
+    assert not any(isinstance(c, Stack) for c in ev.plan.children)
