@@ -25,7 +25,7 @@ from ..blackboard.edges import process_edges
 from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature
-from . import explore, manager
+from . import crease_seeds, explore, manager
 from .stitch import stitch
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
@@ -94,6 +94,8 @@ class _Trace:
     closed: bool = False
     h: float = 0.0              # current step: halved after a failed step, regrown after success
     id: int = -1
+    sides: tuple = None         # a crease's last point, side directions and side facings
+    start_sides: tuple = None   # the same at its seed
 
 
 class Session:
@@ -255,6 +257,10 @@ class Session:
         kinds = f["kind"][ids].astype(np.int64)
         X, n, T, ref, A, B, valid = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
                                                  self.settings.crease_angle)
+        sides = {}
+        cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
+        if len(cre) and "silhouette" in self.settings.kinds:
+            sides = dict(zip(cre, crease_seeds.crease_sides(self, X[cre], A[cre], B[cre])))
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
             if self._near_traced(k, X[i], 1.0 * self.step_len, None) is not None:
@@ -263,6 +269,7 @@ class Session:
             agents = tuple(self.free.pop() for _ in range(need))
             tr = _Trace(kind=k, agents=agents, p=X[i], t=T[i], ref=ref[i], start=X[i], start_t=T[i],
                         start_ref=ref[i], id=len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration)
+            tr.sides = tr.start_sides = sides.get(i)
             tr.fwd.append(X[i])
             tr.fwd_n.append(n[i])
             self._remember(k, X[i], tr.id, 0)
@@ -279,8 +286,9 @@ class Session:
         for t in trs:
             t.h = t.h or self.step_len
         h = np.array([t.h for t in trs])
-        X, n, Tn, refn, A, B, ok = trace_step(self.surface, kinds, P, T, ref, h, self.tol,
-                                              self.settings.crease_angle)
+        X, n, Tn, refn, A, B, ok, nA, nB = trace_step(self.surface, kinds, P, T, ref, h, self.tol,
+                                                      self.settings.crease_angle)
+        side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, A, B, nA, nB, ok)
         f, g = self.ev.field_grad(X)
         rows = self.bb.add_samples(X, f, g, "path")
         still = []
@@ -323,10 +331,14 @@ class Session:
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
                 tr.h = self.step_len
+                tr.sides = tr.start_sides
                 still.append(tr)
             else:
                 self._finish(tr)
         self.traces = still
+        if side_seeds:
+            a, b = np.array([x for x, _ in side_seeds]), np.array([y for _, y in side_seeds])
+            self.bb.add_features(0.5 * (a + b), a, b, "silhouette")
         return [rows]
 
     def _finish(self, tr):

@@ -61,7 +61,8 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
 
 def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     """One predictor-corrector step for each task. Returns new points, normals,
-    tangents, refs, the team's side positions (A, B) and an ok flag (False: lost)."""
+    tangents, refs, the team's side positions (A, B), an ok flag (False: lost) and the
+    side normals (nA, nB; of the two sheets, for a crease)."""
     Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
     n = surface.normals(gQ)
     W = unit(np.cross(n, T))
@@ -105,4 +106,4 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     Tn = unit(step)
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
-    return X, surface.normals(gX), Tn, ref_new, A_out, B_out, ok
+    return X, surface.normals(gX), Tn, ref_new, A_out, B_out, ok, nA_out, nB_out

@@ -8,7 +8,7 @@ import pytest
 from blobtree_ink import model as M
 from blobtree_ink.agents import Region, Session, Settings
 from blobtree_ink.agents import manager
-from blobtree_ink.blackboard.board import Blackboard
+from blobtree_ink.blackboard.board import KIND_ID, Blackboard
 from blobtree_ink.blackboard.polygonise import Grid
 from blobtree_ink.blackboard.view import View
 
@@ -303,3 +303,35 @@ def test_a_feature_smaller_than_a_cell_is_found_by_exploring_flagged_voxels():
     d = np.linalg.norm(eye - c)
     circle = 2 * math.pi * rho * math.sqrt(1 - (rho / d) ** 2)
     assert 0.95 * circle < o.length <= circle
+
+
+def test_silhouette_arcs_are_seeded_where_a_traced_crease_meets_them():
+    """Two overlapping balls (a union): each ball's silhouette runs from the crease circle
+    to the crease circle. With every polygon-edge silhouette seed withdrawn and no
+    exploration, the silhouettes are found only by the crease trace identifying where a
+    sheet's normal turns from facing the eye to facing away; they must then be traced
+    in full and exactly."""
+    c0, c1, R0, R1 = np.array([0.0, 0, 0]), np.array([0.9, 0.0, 0.0]), 1.5, 1.2
+    root = {"type": "union", "children": [{"type": "point", "center": list(c0), "radius": R0},
+                                          {"type": "point", "center": list(c1), "radius": R1}]}
+    eye = np.array([0.45, -8.0, 1.5])
+    view = View(eye=tuple(eye))
+    s = Session(model_of(root), view, Settings(resolution=12, explore_detail=False))
+    s.request("OUTLINES")
+    sil_id = KIND_ID["silhouette"]
+    s.bb.feat.cols["used"][np.flatnonzero(s.bb.feat["kind"] == sil_id)] = True
+    s.run()
+    assert s.done
+    sil = [o for o in s.outlines() if o.kind == "silhouette"]
+    assert sil
+    for o in sil:
+        check_on_surface(s, o)
+        assert np.abs(np.einsum("ij,ij->i", o.normals, view.towards_eye(o.points))).max() < 1e-6
+    pts = np.concatenate([polyline_samples(o) for o in sil])
+    for c, R, oc, oR in ((c0, R0, c1, R1), (c1, R1, c0, R0)):
+        r, d = K * R, np.linalg.norm(eye - c)
+        axis = (eye - c) / d
+        ref = circle(c + r * r / d * axis, axis, r * math.sqrt(1 - r * r / (d * d)))
+        ref = ref[np.linalg.norm(ref - oc, axis=1) > K * oR + 0.02]    # the arc outside the other ball
+        worst, covered = coverage(pts, ref, 0.01 * r)
+        assert len(ref) > 100 and covered > 0.97, (worst, covered)
