@@ -17,6 +17,7 @@ from . import primitives as PR
 from .groups import Group
 
 STACK_MIN = 3                 # fewer identical subtrees are left as they are
+PAIR_BLOCK = 1 << 22          # booleans per block of the (point, member) box test
 STACK_MAX_PRIMS = 16          # larger subtrees keep their own spatial pruning (a stack
                               # evaluates every primitive of a member on each of its points)
 
@@ -81,12 +82,24 @@ class Stack:
         return f"Stack({self.K} x {self.shape.op}, {self.reduce})"
 
     def pairs(self, P):
-        """(point, member) pairs whose member box holds the point, sorted by point."""
-        inside = np.ones((P.shape[1], self.K), bool)
-        for k in range(3):
-            x = P[k][:, None]
-            inside &= (x >= self.member_lo[None, :, k]) & (x <= self.member_hi[None, :, k])
-        return np.nonzero(inside)
+        """(point, member) pairs whose member box holds the point, sorted by point
+        (tested in blocks of points, so that a stack of thousands of members never
+        needs more than PAIR_BLOCK booleans at a time)."""
+        n = P.shape[1]
+        step = max(1, PAIR_BLOCK // self.K)
+        pp, kk = [], []
+        for a in range(0, n, step):
+            Q = P[:, a:a + step]
+            inside = np.ones((Q.shape[1], self.K), bool)
+            for k in range(3):
+                x = Q[k][:, None]
+                inside &= (x >= self.member_lo[None, :, k]) & (x <= self.member_hi[None, :, k])
+            i, j = np.nonzero(inside)
+            pp.append(i + a)
+            kk.append(j)
+        if len(pp) == 1:
+            return pp[0], kk[0]
+        return (np.concatenate(pp), np.concatenate(kk)) if pp else (np.zeros(0, np.int64),) * 2
 
 
 def stack_children(kids, reduce):

@@ -202,3 +202,20 @@ def test_few_or_large_identical_subtrees_are_not_stacked():
             [pt((x + 0.01 * j, 0.3, 0), 0.2, 2.0) for j in range(STACK_MAX_PRIMS)]} for x in (0, 3, 6)]
     ev = ev_of({"type": "union", "children": big})
     assert not any(isinstance(c, Stack) for c in ev.plan.children)
+
+
+def test_a_stack_of_many_members_tests_its_boxes_in_blocks(monkeypatch):
+    # thousands of identical subtrees must not need a (points x members) array at once
+    from blobtree_ink.model import stack as ST
+    kids = [_holed(3.0 * (i % 20), 3.0 * (i // 20)) for i in range(60)]
+    root = {"type": "union", "children": kids}
+    fast = ev_of(root)
+    assert [c.K for c in fast.plan.children if isinstance(c, ST.Stack)] == [60]
+    naive = M.Evaluator(M.from_dict({"format": "blobtree-1", "root": root}), optimize=False)
+    P = np.random.default_rng(2).uniform((-1.5, -1.5, -1), (59, 8, 1), size=(3000, 3))
+    whole = fast.field_grad(P)
+    monkeypatch.setattr(ST, "PAIR_BLOCK", 600)            # blocks of 10 points
+    blocked = fast.field_grad(P)
+    np.testing.assert_array_equal(blocked[0], whole[0])
+    np.testing.assert_array_equal(blocked[1], whole[1])
+    np.testing.assert_allclose(blocked[0], naive.field(P), rtol=0, atol=1e-12)
