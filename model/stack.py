@@ -26,14 +26,17 @@ def signature(node):
     """A hashable description of a plan node's shape, or None when it cannot be stacked
     (warps, and bare groups, which the plan already pools by kind)."""
     from .plan import Op
+    if "_signature" in node.__dict__:          # kept on the plan node: each subtree once
+        return node._signature
+    sig = None
     if isinstance(node, Group):
-        return ("group", node.kind, node.m, node.reduce, node.n)
-    if isinstance(node, Op):
+        sig = ("group", node.kind, node.m, node.reduce, node.n)
+    elif isinstance(node, Op):
         kids = tuple(signature(c) for c in node.children)
-        if any(k is None for k in kids):
-            return None
-        return ("op", node.op, node.iso, node.n, kids)
-    return None
+        if all(k is not None for k in kids):
+            sig = ("op", node.op, node.iso, node.n, kids)
+    node._signature = sig
+    return sig
 
 
 def _prims(sig):
