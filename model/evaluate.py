@@ -179,28 +179,19 @@ def _stack(node, P, need_grad, stats):
         return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
     f, g = _shape(node.shape, P[:, pp], kk, need_grad, stats)
     # pairs are sorted by point, then by member
-    change = np.empty(len(pp), bool)
-    change[0] = True
-    np.not_equal(pp[1:], pp[:-1], out=change[1:])
-    starts = np.flatnonzero(change)
-    owners = pp[starts]
     if node.reduce == "sum":
+        starts = np.flatnonzero(np.diff(pp, prepend=-1))
         F = np.add.reduceat(f, starts)
-        return owners, F, (np.add.reduceat(g, starts, axis=1) if need_grad else None)
+        return pp[starts], F, (np.add.reduceat(g, starts, axis=1) if need_grad else None)
     # a union: the largest member value; a member whose box misses the point is 0 there
-    F = np.maximum.reduceat(f, starts)
-    counts = np.diff(np.append(starts, len(pp)))
-    zero = (counts < node.K) & (F < 0.0)
-    G = None
-    if need_grad:
-        seg = np.cumsum(change) - 1
-        hit = np.flatnonzero(f == F[seg])
-        first = np.ones(len(hit), bool)
-        np.not_equal(seg[hit][1:], seg[hit][:-1], out=first[1:])
-        G = g[:, hit[first]]
-        G[:, zero] = 0.0
+    owners, F, win = G.segment_max(pp, f, need_grad)
+    zero = (np.bincount(pp)[owners] < node.K) & (F < 0.0)
     F[zero] = 0.0
-    return owners, F, G
+    if not need_grad:
+        return owners, F, None
+    Gr = g[:, win]
+    Gr[:, zero] = 0.0
+    return owners, F, Gr
 
 
 def _shape(t, P, kk, need_grad, stats):

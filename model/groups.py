@@ -97,6 +97,25 @@ def _bincount(pp, w, n):
     return np.bincount(pp, weights=w, minlength=n).astype(np.float64, copy=False)
 
 
+def segment_max(pp, f, winners=True):
+    """Per point of pairs sorted by point (pp, non-empty): the point, the largest f of
+    its pairs and (``winners``) the first pair that attains it, as argmax would."""
+    change = np.empty(len(pp), bool)
+    change[0] = True
+    np.not_equal(pp[1:], pp[:-1], out=change[1:])
+    starts = np.flatnonzero(change)
+    seg_max = np.maximum.reduceat(f, starts)
+    win = None
+    if winners:
+        seg_id = np.cumsum(change) - 1
+        hit = np.flatnonzero(f == seg_max[seg_id])
+        sh = seg_id[hit]                      # hits are in pair order: keep each segment's first
+        first = np.ones(len(hit), bool)
+        np.not_equal(sh[1:], sh[:-1], out=first[1:])
+        win = hit[first]
+    return pp[starts], seg_max, win
+
+
 def _reduce(reduce, n_exp, n, pp, f, g):
     if reduce == "sum":
         F = _bincount(pp, f, n)
@@ -108,22 +127,10 @@ def _reduce(reduce, n_exp, n, pp, f, g):
         G = np.zeros((3, n)) if g is not None else None
         if len(pp) == 0:
             return F, G
-        change = np.empty(len(pp), bool)
-        change[0] = True
-        np.not_equal(pp[1:], pp[:-1], out=change[1:])
-        starts = np.flatnonzero(change)
-        owners = pp[starts]
-        seg_max = np.maximum.reduceat(f, starts)
+        owners, seg_max, win = segment_max(pp, f, g is not None)
         F[owners] = np.maximum(seg_max, 0.0)
         if g is not None:
-            seg_id = np.cumsum(change) - 1
-            hit = np.flatnonzero(f == seg_max[seg_id])
-            # the first hit of each segment (hits are in pair order, sorted by point)
-            sh = seg_id[hit]
-            first = np.ones(len(hit), bool)
-            np.not_equal(sh[1:], sh[:-1], out=first[1:])
-            win = hit[first]
-            G[:, pp[win]] = np.where(f[win] > 0, g[:, win], 0.0)
+            G[:, owners] = np.where(f[win] > 0, g[:, win], 0.0)
         return F, G
     # ricci over non-negative members
     fp = np.maximum(f, 0.0)
