@@ -1,9 +1,24 @@
 """Silhouettes that start on creases: a crease trace compares each step with the
 previous one (identify feature points, MASSRIS section 6) and seeds a silhouette where
-a sheet's normal turns from facing the eye to facing away."""
+a sheet's normal turns from facing the eye to facing away. Where overlapping parts meet
+(a locomotive's wheels) such silhouette arcs end at creases at both ends, and the rough
+polygonisation's edges may cross none of them."""
 import numpy as np
 
 from ..blackboard.board import KIND_ID
+from .surface import unit
+
+OFFSET = 0.6        # seeds lie this many steps into their sheet: the two sheets' seeds,
+                    # 1.2 steps apart, are not taken for one traced outline
+
+
+def sides(view, X, A, B, nA, nB):
+    """(point, side directions, side facings) of crease points X from their bracket
+    ends A, B and the two sheets' normals there, vectorised."""
+    W = unit(B - A)                                   # from side A towards side B
+    facing = np.stack([np.einsum("ij,ij->i", nA, view.towards_eye(A)),
+                       np.einsum("ij,ij->i", nB, view.towards_eye(B))], axis=1)
+    return [(X[i], (-W[i], W[i]), facing[i]) for i in range(len(X))]
 
 
 def flips(before, now, d):
@@ -21,43 +36,31 @@ def flips(before, now, d):
     return out
 
 
-def silhouettes_off_creases(session, trs, X, A, B, nA, nB, ok):
-    """Identify feature points along creases (current step against the previous
-    one): where a sheet's normal at the crease turns from facing the eye to facing
-    away, a silhouette of that sheet starts at the crease. Where overlapping parts
-    meet (a locomotive's wheels) such silhouette arcs end at creases at both ends,
-    and the rough polygonisation's edges may cross none of them. Returns seed
-    brackets (a, b) 0.6 of a step into the sheet at the previous and the current crease
-    point (the two sheets' seeds, 1.2 steps apart, are not taken for one outline)."""
-    if "silhouette" not in session.settings.kinds:
-        return []
-    seeds = []
-    crease = KIND_ID["crease"]
-    for i, tr in enumerate(trs):
-        if tr.kind != crease or not ok[i]:
-            continue
-        W = B[i] - A[i]
-        L = np.linalg.norm(W)
-        if not L > 0:
-            continue
-        W = W / L                             # from side A towards side B
-        facing = np.array([nA[i] @ session.view.towards_eye(A[i:i + 1])[0],
-                           nB[i] @ session.view.towards_eye(B[i:i + 1])[0]])
-        now = (X[i], (-W, W), facing)
-        if tr.sides is not None:
-            seeds += flips(tr.sides, now, 0.6 * session.step_len)
-        tr.sides = now
-    return seeds
-
-
-def crease_sides(session, X, A, B):
-    """(point, side directions, side facings) of crease points from their bracket
-    ends (one batched evaluation)."""
+def seed_sides(session, X, A, B):
+    """The side records of new crease seeds (their sheets' normals from one batched
+    evaluation at the bracket ends)."""
     if len(X) == 0:
         return []
     _, g = session.ev.field_grad(np.concatenate([A, B]))
     n = session.surface.normals(g)
-    facing = np.einsum("ij,ij->i", n, session.view.towards_eye(np.concatenate([A, B]))).reshape(2, -1)
-    W = B - A
-    W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
-    return [(X[i], (-W[i], W[i]), facing[:, i]) for i in range(len(X))]
+    return sides(session.view, X, A, B, n[:len(X)], n[len(X):])
+
+
+def silhouettes_off_creases(session, trs, X, A, B, nA, nB, ok):
+    """After a trace step: the seed brackets (a, b) of silhouettes that start on the
+    creases between each crease trace's last and current point; updates the traces'
+    side records."""
+    if "silhouette" not in session.settings.kinds:
+        return []
+    rows = np.array([i for i, tr in enumerate(trs) if tr.kind == KIND_ID["crease"] and ok[i]], np.int64)
+    rows = rows[np.linalg.norm(B[rows] - A[rows], axis=1) > 0]     # ends apart: sides defined
+    if len(rows) == 0:
+        return []
+    now = sides(session.view, X[rows], A[rows], B[rows], nA[rows], nB[rows])
+    seeds = []
+    for i, rec in zip(rows, now):
+        tr = trs[i]
+        if tr.sides is not None:
+            seeds += flips(tr.sides, rec, OFFSET * session.step_len)
+        tr.sides = rec
+    return seeds

@@ -260,7 +260,7 @@ class Session:
         sides = {}
         cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
         if len(cre) and "silhouette" in self.settings.kinds:
-            sides = dict(zip(cre, crease_seeds.crease_sides(self, X[cre], A[cre], B[cre])))
+            sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
             if self._near_traced(k, X[i], 1.0 * self.step_len, None) is not None:

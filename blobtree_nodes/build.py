@@ -39,8 +39,8 @@ class _NamesFromLabels:
 
     Blender names a new node after its type's label and, if that name is taken, tries
     "Label.001", "Label.002", ... each against every node: quadratic for a thousand
-    points. Renaming a node afterwards is no cure, as a rename runs a full tree update
-    (as long as adding the node itself). Setting ``bl_label`` on a node sets its type's
+    points. Renaming a node afterwards is no cure: a rename runs a full tree update,
+    as costly as adding the node. Setting ``bl_label`` on a node sets its type's
     label, so before each new node the label is set to the name it should get;
     afterwards every label is restored (also on an error).
     """
