@@ -147,8 +147,9 @@ class Baseline:
             for _ in range(20000):
                 if self.deadline is not None and time.perf_counter() > self.deadline:
                     break            # out of this step's time: keep what was traced
-                x, nn, tn, rn, _, _, ok, _, _ = trace_step(self.surface, kinds, p[None], t[None], r[None], np.array([h]),
-                                                     self.tol, self.crease_angle)
+                st = trace_step(self.surface, kinds, p[None], t[None], r[None], np.array([h]), self.tol,
+                                self.crease_angle)
+                x, nn, tn, rn, ok = st.X, st.n, st.T, st.ref, st.ok
                 if not ok[0]:
                     if h > self.step_len / 16:
                         h *= 0.5

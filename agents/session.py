@@ -286,11 +286,10 @@ class Session:
         for t in trs:
             t.h = t.h or self.step_len
         h = np.array([t.h for t in trs])
-        X, n, Tn, refn, A, B, ok, nA, nB = trace_step(self.surface, kinds, P, T, ref, h, self.tol,
-                                                      self.settings.crease_angle)
-        side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, A, B, nA, nB, ok)
-        f, g = self.ev.field_grad(X)
-        rows = self.bb.add_samples(X, f, g, "path")
+        st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle)
+        X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
+        side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
+        rows = self.bb.add_samples(X, st.f, st.g, "path")
         still = []
         for i, tr in enumerate(trs):
             end = None

@@ -9,9 +9,28 @@ one on each side of the crease (the bracket ends): dual tracking. An outline end
 outline of the same kind already traced, or is lost (no bracket); an open outline is
 then traced backwards from its seed.
 """
+from typing import NamedTuple
+
 import numpy as np
 
 from .surface import CREASE, unit
+
+
+class Step(NamedTuple):
+    """One trace step of every task: the new points, normals, tangents and refs, the
+    team's side positions and their normals (the two sheets', for a crease), the
+    field and gradient at the new points, and whether each task is still on its outline."""
+    X: np.ndarray
+    n: np.ndarray
+    T: np.ndarray
+    ref: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+    nA: np.ndarray
+    nB: np.ndarray
+    f: np.ndarray
+    g: np.ndarray
+    ok: np.ndarray
 
 
 def level_tangent(surface, kinds, X, n, ref, eps):
@@ -60,9 +79,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
 
 
 def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
-    """One predictor-corrector step for each task. Returns new points, normals,
-    tangents, refs, the team's side positions (A, B), an ok flag (False: lost) and the
-    side normals (nA, nB; of the two sheets, for a crease)."""
+    """One predictor-corrector step for each task (a :class:`Step`; ok False: lost)."""
     Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
     n = surface.normals(gQ)
     W = unit(np.cross(n, T))
@@ -94,7 +111,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
         A_out[got], B_out[got], nA_out[got], nB_out[got] = A[src], B[src], nA[src], nB[src]
         found[got] = True
     ok &= found
-    fX, _ = surface.field_grad(X)
+    fX, gX = surface.field_grad(X)
     ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA_out, nB_out), -1, 1))
     jumped = ang > 0.5 * crease_angle
@@ -106,4 +123,4 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     Tn = unit(step)
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
-    return X, surface.normals(gX), Tn, ref_new, A_out, B_out, ok, nA_out, nB_out
+    return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok)
