@@ -199,19 +199,11 @@ def _shape(t, P, kk, need_grad, stats):
     position is evaluated densely (a member is 0 outside its support)."""
     v = P.shape[1]
     if isinstance(t, StackedGroup):
-        if t.m == 1:
-            idx, rep, pp = kk, P, None
-        else:
-            pp = np.repeat(np.arange(v), t.m)
-            idx = (kk * t.m)[pp] + np.tile(np.arange(t.m), v)
-            rep = np.repeat(P, t.m, axis=1)
-        if stats is not None:
-            stats.pairs += len(idx)
-        d2, V = PR.dist2(rep, t.prm, idx)
-        f, g = PR.kernel(d2, V, t.prm, idx, need_grad)
-        if pp is None:
-            return G._single(f, g, t.reduce)
-        return G._reduce(t.reduce, t.n, v, pp, f, g)
+        if t.m == 1:            # one pair per point, member kk; _single as for one member
+            return G.evaluate_pairs(t.prm, t.reduce, t.n, P, kk, None, v, need_grad, stats)
+        pp = np.repeat(np.arange(v), t.m)
+        idx = (kk * t.m)[pp] + np.tile(np.arange(t.m), v)
+        return G.evaluate_pairs(t.prm, t.reduce, t.n, np.repeat(P, t.m, axis=1), idx, pp, v, need_grad, stats)
     kids = [(None, *_shape(c, P, kk, need_grad, stats)) for c in t.children]
     return _combine(t, kids, v, need_grad)
 

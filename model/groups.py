@@ -68,21 +68,24 @@ class Group:
         return pp, pi, counts
 
     def evaluate(self, P, need_grad, stats=None):
-        n = P.shape[1]
         pp, pi, counts = self.pairs(P)
-        if pi is None:
-            if stats is not None:
-                stats.pairs += n
-            d2, V = PR.dist2(P, self.prm, None)
-            f, g = PR.kernel(d2, V, self.prm, None, need_grad)
-            return _single(f, g, self.reduce)
-        if stats is not None:
-            stats.pairs += len(pp)
         # pairs are sorted by point: repeating columns is cheaper than gathering them;
         # pairs beyond a primitive's radius just give 0 (no compaction pass)
-        d2, V = PR.dist2(np.repeat(P, counts, axis=1), self.prm, pi)
-        f, g = PR.kernel(d2, V, self.prm, pi, need_grad)
-        return _reduce(self.reduce, self.n, n, pp, f, g)
+        Q = P if pi is None else np.repeat(P, counts, axis=1)
+        return evaluate_pairs(self.prm, self.reduce, self.n, Q, pi, pp, P.shape[1], need_grad, stats)
+
+
+def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None):
+    """The kernels of (point, member) pairs reduced per point: Q (3, pairs) holds each
+    pair's point, idx its member (None: the group's only member), pp its point among n
+    (sorted; None: one pair per point, nothing to reduce)."""
+    if stats is not None:
+        stats.pairs += Q.shape[1]
+    d2, V = PR.dist2(Q, prm, idx)
+    f, g = PR.kernel(d2, V, prm, idx, need_grad)
+    if pp is None:
+        return _single(f, g, reduce)
+    return _reduce(reduce, n_exp, n, pp, f, g)
 
 
 def _single(f, g, reduce):
