@@ -8,8 +8,9 @@ import numpy as np
 from ..blackboard.board import KIND_ID
 from .surface import unit
 
-OFFSET = 0.6        # seeds lie this many steps into their sheet: the two sheets' seeds,
-                    # 1.2 steps apart, are not taken for one traced outline
+OFFSET = 0.15       # seeds lie this many steps into their sheet (a silhouette meeting the
+                    # crease obliquely still crosses the seed bracket); the two sheets'
+                    # seeds are told apart by their normals (Session._near_traced)
 
 
 def sides(view, X, A, B, nA, nB):

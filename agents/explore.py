@@ -45,20 +45,28 @@ def flagged_voxels(session):
     return rows[flag]
 
 
-def start(session, row):
+def start(session, rows):
+    """Send one free agent to each voxel row (as many rows as there are free agents are
+    taken by the caller): all start positions projected in one batch."""
     s = session
-    s.explored.add(row)
-    centre = s.bb.lo + (s.bb.vox["ijk"][row] + 0.5) * s.h
-    P, f, g = s.surface.project(centre[None])
-    if not np.isfinite(P).all() or abs(f[0] - s.ev.iso) > 1e-6 * max(1.0, s.ev.iso):
+    rows = [int(r) for r in rows]
+    if not rows:
         return
-    n = s.surface.normals(g)[0]
-    d = np.cross(n, s.rng.normal(size=3))
-    d /= max(np.linalg.norm(d), 1e-300)
-    sil = float(n @ s.view.towards_eye(P)[0])
-    curv = float(curvature(s.ev, P, g)["mean"][0])
-    s.explorers.append(_Explorer(agent=s.free.pop(), voxel=row, centre=centre, p=P[0], d=d, s_sil=sil,
-                                 s_curv=curv, n=n))
+    s.explored.update(rows)
+    centres = s.bb.lo + (s.bb.vox["ijk"][rows] + 0.5) * s.h
+    P, f, g = s.surface.project(centres.copy())
+    ok = np.all(np.isfinite(P), axis=1) & (np.abs(f - s.ev.iso) <= 1e-6 * max(1.0, s.ev.iso))
+    if not ok.any():
+        return
+    P, g, centres = P[ok], g[ok], centres[ok]
+    rows = [r for r, k in zip(rows, ok) if k]
+    n = s.surface.normals(g)
+    d = st.unit(np.cross(n, s.rng.normal(size=(len(P), 3))))
+    sil = np.einsum("ij,ij->i", n, s.view.towards_eye(P))
+    curv = curvature(s.ev, P, g)["mean"]
+    for i, row in enumerate(rows):
+        s.explorers.append(_Explorer(agent=s.free.pop(), voxel=row, centre=centres[i], p=P[i], d=d[i],
+                                     s_sil=float(sil[i]), s_curv=float(curv[i]), n=n[i]))
 
 
 def step(session):

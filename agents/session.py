@@ -143,7 +143,7 @@ class Session:
         v = self.bb.vox
         centres = self.bb.lo + (v["ijk"][self._detail] + 0.5) * self.h
         rows = self._detail[self._in_regions(centres)]
-        pts = [p for table in self.traced.values() for items in table.values() for _, p, _ in items]
+        pts = [p for table in self.traced.values() for items in table.values() for _, p, _, _ in items]
         if pts:
             covered = self.bb.voxel_rows(self.bb.voxel_of(np.array(pts)), create=False)
             rows = rows[~np.isin(rows, covered)]
@@ -248,8 +248,10 @@ class Session:
                 take.append(s)
             if take:
                 self._start_traces(np.array(take))
-        while self.free and self.explore_queue:
-            explore.start(self, self.explore_queue.pop(0))
+        if self.free and self.explore_queue:
+            k = min(len(self.free), len(self.explore_queue))
+            rows, self.explore_queue = self.explore_queue[:k], self.explore_queue[k:]
+            explore.start(self, rows)
 
     def _start_traces(self, ids):
         f = self.bb.feat
@@ -263,7 +265,7 @@ class Session:
             sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
-            if self._near_traced(k, X[i], 1.0 * self.step_len, None) is not None:
+            if self._near_traced(k, X[i], 1.0 * self.step_len, None, n=n[i]) is not None:
                 continue
             need = 2 if k == KIND_ID["crease"] else 1
             agents = tuple(self.free.pop() for _ in range(need))
@@ -272,7 +274,7 @@ class Session:
             tr.sides = tr.start_sides = sides.get(i)
             tr.fwd.append(X[i])
             tr.fwd_n.append(n[i])
-            self._remember(k, X[i], tr.id, 0)
+            self._remember(k, X[i], tr.id, 0, n[i])
             self.traces.append(tr)
 
     def _step_traces(self):
@@ -286,14 +288,16 @@ class Session:
         for t in trs:
             t.h = t.h or self.step_len
         h = np.array([t.h for t in trs])
-        st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle)
+        nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.fwd_n[0] for t in trs])
+        st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP,
+                        retry=h > self.step_len / 16)
         X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
         side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
         rows = self.bb.add_samples(X, st.f, st.g, "path")
         still = []
         for i, tr in enumerate(trs):
             end = None
-            if not ok[i] and tr.h > self.step_len / 16:
+            if not ok[i] and tr.h > self.step_len / 16:     # (trace_step's retry)
                 tr.h *= 0.5                    # retry with a shorter step next iteration
                 still.append(tr)
                 continue
@@ -306,7 +310,7 @@ class Session:
                 arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
                 if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * self.step_len:
                     end = "closed"
-                elif (hit := self._near_traced(tr.kind, X[i], 1.0 * self.step_len, tr.id, arc)) is not None:
+                elif (hit := self._near_traced(tr.kind, X[i], 1.0 * self.step_len, tr.id, arc, n[i])) is not None:
                     # an outline is here: stop short; come round onto its own seed, it closed
                     end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
                 elif steps >= self.settings.max_outline_steps:
@@ -314,7 +318,7 @@ class Session:
                 else:
                     mine.append(X[i])
                     (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
-                    self._remember(tr.kind, X[i], tr.id, arc)
+                    self._remember(tr.kind, X[i], tr.id, arc, n[i])
                     tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
                     tr.h = min(self.step_len, 1.5 * tr.h)
                     self.bb.consume_near(X[i:i + 1], FEATURE_KINDS[tr.kind], 0.75 * self.h)
@@ -326,7 +330,8 @@ class Session:
             elif end == "closed":
                 tr.closed = True
                 self._finish(tr)
-            elif tr.phase == "fwd" and self._near_traced(tr.kind, tr.start, 1.0 * self.step_len, tr.id) is None:
+            elif tr.phase == "fwd" and self._near_traced(tr.kind, tr.start, 1.0 * self.step_len, tr.id,
+                                                         n=tr.fwd_n[0]) is None:
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
                 tr.h = self.step_len
@@ -350,23 +355,30 @@ class Session:
     def _cell(self, p):
         return tuple(np.floor(p / self.step_len).astype(int))
 
-    def _remember(self, kind, p, tid, arc):
-        """A traced point, with its outline's id and its step index along the outline
-        (0 the seed, + forwards, - backwards)."""
-        self.traced[kind].setdefault(self._cell(p), []).append((tid, p, arc))
+    def _remember(self, kind, p, tid, arc, n):
+        """A traced point, with its outline's id, its step index along the outline
+        (0 the seed, + forwards, - backwards) and its normal."""
+        self.traced[kind].setdefault(self._cell(p), []).append((tid, p, arc, n))
 
-    def _near_traced(self, kind, p, radius, own, arc=None):
+    def _near_traced(self, kind, p, radius, own, arc=None, n=None):
         """A traced point of this kind within radius of p, as (outline id, step index),
         or None. Points of the outline ``own`` count only given p's step index ``arc``
         and when more than SELF_GAP steps away along the outline (a trace coming round
-        onto its own other end, or its backward half meeting its forward half, stops)."""
+        onto its own other end, or its backward half meeting its forward half, stops).
+        Given the normal ``n`` at p, silhouette and curvature-sign points on another
+        sheet (normals apart by half the crease angle: the far side of a crease, where
+        a different outline ends) do not count; crease points have no one normal."""
+        sheet = n is not None and kind != KIND_ID["crease"]
+        cos = np.cos(0.5 * self.settings.crease_angle)
         c = self._cell(p)
         table = self.traced[kind]
         for dx in (-1, 0, 1):
             for dy in (-1, 0, 1):
                 for dz in (-1, 0, 1):
-                    for tid, q, qa in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
+                    for tid, q, qa, qn in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
                         if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
+                            continue
+                        if sheet and qn @ n < cos:
                             continue
                         if np.linalg.norm(q - p) < radius:
                             return (tid, qa)

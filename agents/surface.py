@@ -8,13 +8,14 @@ sign, where the mean curvature changes sign.
 """
 import numpy as np
 
-from ..model.curvature import curvature
+from ..model.curvature import curvature, field_grad_hessian
 from ..model.projection import newton
 
 SIL, CREASE, CURV = 0, 1, 2
 CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bracket off the estimate
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
+NEWTON_ITERS = 6             # Newton iterations of a silhouette corrector before it gives up
 
 
 def unit(v):
@@ -88,6 +89,57 @@ class Surface:
         fn, gn = self.ev.field_grad(Pn)
         P[rows[has]], f[rows[has]], g[rows[has]] = Pn, fn, gn
 
+    def silhouette_newton(self, Q, T, reach, tol):
+        """Silhouette points by Newton's method on {f = iso, grad f . v = 0, (x - Q) . T = 0}:
+        on the surface, on the silhouette, in the plane through each predicted point Q
+        across its tangent T (v: towards the eye, unnormalised for a perspective view).
+        Each iteration is one batched evaluation of field, gradient and Hessian (the
+        Hessian by central differences of the analytic gradient: seven points per point).
+        Returns X, the gradient and Hessian of its last iteration, and whether each point
+        converged (the last step below ``tol``) without a singular system (a cusp, a fold
+        of the silhouette) or moving further than ``reach`` from Q; the caller falls
+        back to bracketing for the others."""
+        X = np.array(Q, float)
+        m = len(X)
+        reach = np.broadcast_to(reach, (m,))
+        G, H = np.zeros((m, 3)), np.zeros((m, 3, 3))
+        ok = np.zeros(m, bool)
+        live = np.arange(m)
+        for _ in range(NEWTON_ITERS):
+            if len(live) == 0:
+                break
+            x = X[live]
+            f, g, h = field_grad_hessian(self.ev, x)
+            G[live], H[live] = g, h
+            if self.view.eye is not None:
+                w = self.view.eye - x
+                ds = np.einsum("nij,nj->ni", h, w) - g
+            else:
+                w = np.broadcast_to(-self.view.direction, x.shape)
+                ds = np.einsum("nij,nj->ni", h, w)
+            Tl = T[live]
+            J = np.stack([g, ds, Tl], axis=1)                                  # (k, 3, 3)
+            r = -np.stack([f - self.iso, np.einsum("ij,ij->i", g, w),
+                           np.einsum("ij,ij->i", x - Q[live], Tl)], axis=1)
+            # a (near) singular system: the silhouette turns along the view (a cusp) or
+            # the gradient vanishes; scale-free test on the rows' lengths
+            det = np.linalg.det(J)
+            size = np.prod(np.linalg.norm(J, axis=2), axis=1)
+            good = np.isfinite(det) & (np.abs(det) > 1e-6 * size)
+            dx = np.zeros((len(live), 3))
+            if good.any():
+                dx[good] = np.linalg.solve(J[good], r[good][:, :, None])[:, :, 0]
+            step = np.linalg.norm(dx, axis=1)
+            # damped: no step longer than half the reach
+            lim = 0.5 * reach[live]
+            dx *= np.where(step > lim, lim / np.maximum(step, 1e-300), 1.0)[:, None]
+            X[live] = x + dx
+            far = np.linalg.norm(X[live] - Q[live], axis=1) > reach[live]
+            done = good & (step <= tol) & ~far
+            ok[live[done]] = True
+            live = live[good & ~done & ~far & np.isfinite(step)]
+        return X, G, H, ok
+
     @staticmethod
     def normals(g):
         n = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
@@ -108,7 +160,14 @@ class Surface:
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
         return s
 
-    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None, anchor=None):
+    def ends(self, kinds, A, B, ref, anchor=None):
+        """Bracket ends projected onto the surface, with their gradients and signed
+        quantities: (A, gA, sA, B, gB, sB), as :meth:`bisect` takes them."""
+        A, _, gA = self.project(A, anchor=anchor)
+        B, _, gB = self.project(B, anchor=anchor)
+        return A, gA, self.signs(kinds, A, gA, ref), B, gB, self.signs(kinds, B, gB, ref)
+
+    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None, anchor=None, ends=None):
         """Zero crossings between bracket ends A, B (on the surface, opposite signs).
 
         Regula falsi with the Illinois modification on the segment A-B, every trial
@@ -125,13 +184,12 @@ class Surface:
         a smooth bend, not a crease: it stops at once, invalid (narrowing a smooth
         surface only brings the normals closer; a crease keeps them apart). ``anchor``:
         an on-surface point for each bracket (e.g. its centre) towards which an end on
-        a flat field moves first (see :meth:`project`); trial points use the first end."""
-        A, fA, gA = self.project(A, anchor=anchor)
-        B, fB, gB = self.project(B, anchor=anchor)
-        sA = self.signs(kinds, A, gA, ref)
-        sB = self.signs(kinds, B, gB, ref)
+        a flat field moves first (see :meth:`project`); trial points use the first end.
+        ``ends``: the ends already projected (:meth:`ends`; A, B and anchor are then unused)."""
+        if ends is None:
+            ends = self.ends(kinds, A, B, ref, anchor)
+        A, gA, sA, B, gB, sB = (x.copy() for x in ends)
         valid = (sA > 0) != (sB > 0)
-        A, B, gA, gB = A.copy(), B.copy(), gA.copy(), gB.copy()
         jump = kinds == CREASE
         last = np.zeros(len(A), np.int8)        # which end moved last (Illinois)
         width = np.linalg.norm(A - B, axis=1)

@@ -13,7 +13,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .surface import CREASE, unit
+from .surface import CREASE, SIL, unit
+
+SMOOTH = 0.5       # a silhouette Newton step whose normals disagree by this much of the crease angle crossed one
 
 
 class Step(NamedTuple):
@@ -78,44 +80,54 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     return X, n, tangent, nA - nB, A, B, valid
 
 
-def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
-    """One predictor-corrector step for each task (a :class:`Step`; ok False: lost)."""
-    Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
-    n = surface.normals(gQ)
-    W = unit(np.cross(n, T))
-    ok = np.ones(len(P), bool)
-    found = np.zeros(len(P), bool)
-    X = Q.copy()
-    gX = gQ.copy()
-    A_out, B_out = Q.copy(), Q.copy()
-    nA_out, nB_out = n.copy(), n.copy()
-    # brackets across the tangent at three widths, solved in one batch; the narrowest
-    # bracket that holds a crossing wins
-    widths = (0.5, 1.0, 2.0)
+def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=None):
+    """One predictor-corrector step for each task (a :class:`Step`; ok False: lost).
+
+    Silhouettes (given ``nP``, the normals at P) are corrected by Newton's method
+    (:meth:`Surface.silhouette_newton`, a few evaluations); the other kinds by
+    bracketing across the tangent and bisecting (tens of evaluations). A silhouette
+    step Newton does not settle, or that crossed a crease, is not ok where ``retry``
+    (the caller will retry it with a shorter step) and is bracketed otherwise."""
     m = len(P)
-    d = np.concatenate([(w * h)[:, None] * W for w in widths])
-    Qw, kw, rw = np.tile(Q, (3, 1)), np.tile(kinds, 3), np.tile(ref, (3, 1))
-    # a crease bracket dips into the solid by half its half-width: across a sharp
-    # convex edge, an end in the tangent plane over the drop-off would project back
-    # onto the edge itself and never reach the far side
-    sink = np.where(kw == CREASE, 0.5, 0.0)[:, None] * np.linalg.norm(d, axis=1, keepdims=True) * np.tile(n, (3, 1))
-    x, gx, A, B, nA, nB, valid = surface.bisect(kw, Qw + d - sink, Qw - d - sink, rw, tol,
-                                                crease_angle=crease_angle, anchor=Qw)
-    for j in range(len(widths)):
-        sl = slice(j * m, (j + 1) * m)
-        got = np.flatnonzero(valid[sl] & ~found)
-        if len(got) == 0:
-            continue
-        src = j * m + got
-        X[got], gX[got] = x[src], gx[src]
-        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[src], B[src], nA[src], nB[src]
+    X = np.zeros((m, 3))
+    A_out, B_out = np.zeros((m, 3)), np.zeros((m, 3))
+    nA_out, nB_out = np.zeros((m, 3)), np.zeros((m, 3))
+    found = np.zeros(m, bool)
+    sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
+    if len(sil):
+        Xs, Gs, Hs, conv = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol)
+        # the gradient at P predicted from X through the Hessian must match P's normal: a
+        # step across a crease (a jump of the gradient) goes to the bracketing, which
+        # ends a silhouette there
+        back = surface.normals(Gs - np.einsum("nij,nj->ni", Hs, Xs - P[sil]))
+        conv &= np.einsum("ij,ij->i", back, nP[sil]) > np.cos(SMOOTH * crease_angle)
+        got = sil[conv]
+        X[got] = A_out[got] = B_out[got] = Xs[conv]
+        nA_out[got] = nB_out[got] = surface.normals(Gs[conv])
         found[got] = True
-    ok &= found
+    todo = ~found
+    if len(sil) and retry is not None:
+        todo[sil] &= ~retry[sil]
+    rest = np.flatnonzero(todo)
+    if len(rest):
+        Xb, Ab, Bb, nAb, nBb, fb = _bracket_step(surface, kinds[rest], P[rest], T[rest], ref[rest], h[rest],
+                                                 tol, crease_angle)
+        X[rest], A_out[rest], B_out[rest], nA_out[rest], nB_out[rest] = Xb, Ab, Bb, nAb, nBb
+        found[rest] = fb
+    lost = ~found
+    X[lost] = P[lost]          # not moved: evaluated at a known surface point
+    ok = found.copy()
     fX, gX = surface.field_grad(X)
     ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA_out, nB_out), -1, 1))
     jumped = ang > 0.5 * crease_angle
     ok &= np.where(kinds == CREASE, jumped, ~jumped)   # a silhouette ends where it meets a crease
+    if nP is not None:
+        # nor does a silhouette step over a crease onto another sheet's silhouette (its
+        # bracket then lies wholly on the far sheet): the normal may not turn by the
+        # crease angle in one step
+        turn = np.einsum("ij,ij->i", surface.normals(gX), nP) < np.cos(crease_angle)
+        ok &= ~((kinds == SIL) & turn)
     step = X - P
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
@@ -124,3 +136,47 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok)
+
+
+def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
+    """The corrector by bracketing: project the predicted point, bracket the outline
+    across the tangent at three widths and bisect the narrowest bracket that holds a
+    crossing. Returns the points, the final bracket ends and their normals, and
+    whether each was found."""
+    Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
+    n = surface.normals(gQ)
+    W = unit(np.cross(n, T))
+    found = np.zeros(len(P), bool)
+    X = Q.copy()
+    A_out, B_out = Q.copy(), Q.copy()
+    nA_out, nB_out = n.copy(), n.copy()
+    # brackets across the tangent at three widths, their ends projected in one batch
+    widths = (0.5, 1.0, 2.0)
+    m = len(P)
+    d = np.concatenate([(w * h)[:, None] * W for w in widths])
+    Qw, kw, rw = np.tile(Q, (3, 1)), np.tile(kinds, 3), np.tile(ref, (3, 1))
+    # a crease bracket dips into the solid by half its half-width: across a sharp
+    # convex edge, an end in the tangent plane over the drop-off would project back
+    # onto the edge itself and never reach the far side
+    sink = np.where(kw == CREASE, 0.5, 0.0)[:, None] * np.linalg.norm(d, axis=1, keepdims=True) * np.tile(n, (3, 1))
+    E = surface.ends(kw, Qw + d - sink, Qw - d - sink, rw, anchor=Qw)
+    crossing = ((E[2] > 0) != (E[5] > 0)).reshape(len(widths), m)
+    # each task bisects only its narrowest bracket with a sign change (one batch); where
+    # that bisection fails (no convergence, a smooth bend taken for a crease), its next
+    # wider bracket with a sign change is bisected
+    tried = np.zeros((len(widths), m), bool)
+    while True:
+        left = crossing & ~tried & ~found[None, :]
+        todo = np.flatnonzero(left.any(axis=0))
+        if len(todo) == 0:
+            break
+        j = np.argmax(left[:, todo], axis=0)
+        tried[j, todo] = True
+        src = j * m + todo
+        x, _, A, B, nA, nB, valid = surface.bisect(kw[src], None, None, rw[src], tol, crease_angle=crease_angle,
+                                                   ends=tuple(e[src] for e in E))
+        got, v = todo[valid], np.flatnonzero(valid)
+        X[got] = x[v]
+        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[v], B[v], nA[v], nB[v]
+        found[got] = True
+    return X, A_out, B_out, nA_out, nB_out, found

@@ -15,15 +15,24 @@ HESSIAN_STEP = 1e-5
 
 
 def hessian(ev, P, h=None):
+    return field_grad_hessian(ev, P, h, centre=False)[2]
+
+
+def field_grad_hessian(ev, P, h=None, centre=True):
+    """Field, gradient and Hessian at P in one batched evaluation (the points and their
+    six offsets); with ``centre`` False only the offsets are evaluated (f, g None)."""
     P = as_points(P)
     h = HESSIAN_STEP * ev.scale if h is None else h
     n = len(P)
-    offs = np.concatenate([np.eye(3) * h, -np.eye(3) * h])
+    offs = np.concatenate([np.eye(3) * h, -np.eye(3) * h] + ([np.zeros((1, 3))] if centre else []))
     batch = (P[None, :, :] + offs[:, None, :]).reshape(-1, 3)
-    _, g = ev.field_grad(batch)
-    g = g.reshape(6, n, 3)
-    H = (g[:3] - g[3:]).transpose(1, 0, 2) / (2 * h)    # H[n, i, j] = d g_j / d x_i
-    return 0.5 * (H + H.transpose(0, 2, 1))
+    f, g = ev.field_grad(batch)
+    g = g.reshape(len(offs), n, 3)
+    H = (g[:3] - g[3:6]).transpose(1, 0, 2) / (2 * h)    # H[n, i, j] = d g_j / d x_i
+    H = 0.5 * (H + H.transpose(0, 2, 1))
+    if not centre:
+        return None, None, H
+    return f[6 * n:], g[6], H
 
 
 def curvature(ev, P, grad=None):

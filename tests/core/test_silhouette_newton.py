@@ -1,0 +1,90 @@
+"""The silhouette corrector by Newton's method (Surface.silhouette_newton) and how a
+trace step uses it: exact silhouette points in a few evaluations, and no step across
+a crease (the bracketing ends a silhouette there)."""
+import math
+
+import numpy as np
+
+from blobtree_ink.agents.surface import SIL, Surface
+from blobtree_ink.agents.tracer import trace_step
+from blobtree_ink.blackboard.view import View
+
+from test_massris import K, model_of
+from blobtree_ink import model as M
+
+
+def sphere_surface(view):
+    ev = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
+    return Surface(ev, view)
+
+
+def test_newton_lands_on_the_exact_silhouette_circle_in_the_plane_across_the_tangent():
+    r = K
+    eye = np.array([0.0, -5.0, 1.0])
+    surf = sphere_surface(View(eye=tuple(eye)))
+    d = np.linalg.norm(eye)
+    axis = eye / d
+    centre = r * r / d * axis                       # the silhouette circle of the sphere
+    rad = r * math.sqrt(1 - r * r / (d * d))
+    u = np.cross(axis, [1.0, 0, 0])
+    u /= np.linalg.norm(u)
+    w = np.cross(axis, u)
+    a = np.linspace(0, 2 * math.pi, 40, endpoint=False)
+    on = centre + rad * (np.cos(a)[:, None] * u + np.sin(a)[:, None] * w)
+    T = -np.sin(a)[:, None] * u + np.cos(a)[:, None] * w          # along the circle
+    Q = on + 0.05 * T + 0.03 * axis                                 # a predictor off the circle
+    X, G, H, ok = surf.silhouette_newton(Q, T, 0.2, 1e-10)
+    assert ok.all()
+    np.testing.assert_allclose(np.linalg.norm(X, axis=1), r, atol=1e-12)
+    n = surf.normals(surf.ev.field_grad(X)[1])
+    v = surf.view.towards_eye(X)
+    assert np.abs(np.einsum("ij,ij->i", n, v)).max() < 1e-10
+    np.testing.assert_allclose(np.einsum("ij,ij->i", X - Q, T), 0.0, atol=1e-12)
+    # out of reach: the same points with a reach shorter than the distance to the circle
+    _, _, _, near = surf.silhouette_newton(Q, T, 0.01, 1e-10)
+    assert not near.any()
+
+
+def test_an_orthographic_view_too():
+    surf = sphere_surface(View(direction=(0.0, 1.0, 0.0)))
+    a = np.linspace(0, 2 * math.pi, 12, endpoint=False)
+    on = K * np.stack([np.cos(a), np.zeros_like(a), np.sin(a)], axis=1)
+    T = np.stack([-np.sin(a), np.zeros_like(a), np.cos(a)], axis=1)
+    X, _, _, ok = surf.silhouette_newton(on + 0.04 * T + [0, 0.05, 0], T, 0.2, 1e-10)
+    assert ok.all()
+    assert np.abs(X[:, 1]).max() < 1e-10                           # the great circle facing y
+    np.testing.assert_allclose(np.linalg.norm(X, axis=1), K, atol=1e-12)
+
+
+def test_a_silhouette_step_is_not_taken_across_a_crease():
+    """Two overlapping balls: a step from ball 1's silhouette towards and over the crease
+    circle would land Newton on the other ball's sheet; with a retry left the step is
+    refused (the caller halves it), and without one the bracketing (whose brackets may
+    lie wholly on the far sheet) does not take it either."""
+    c0, c1 = np.array([0.0, 0, 0]), np.array([0.9, 0, 0])
+    ev = M.Evaluator(model_of({"type": "union", "children": [
+        {"type": "point", "center": list(c0), "radius": 1.5},
+        {"type": "point", "center": list(c1), "radius": 1.2}]}))
+    surf = Surface(ev, View(direction=(0.0, 1.0, 0.0)))
+    r1 = K * 1.2
+    # ball 1's silhouette (orthographic along y): the circle y = 0 around c1, in x-z;
+    # it meets the crease circle (x = x_c) at z = +-zc
+    r0 = K * 1.5
+    xc = (r0 ** 2 - r1 ** 2 + 0.81) / 1.8
+    zc = math.sqrt(r0 ** 2 - xc ** 2)
+    ang = math.atan2(zc, xc - 0.9) - 0.15                           # on ball 1, 0.15 rad short of the crease
+    P = np.array([[0.9 + r1 * math.cos(ang), 0.0, r1 * math.sin(ang)]])
+    T = np.array([[-math.sin(ang), 0.0, math.cos(ang)]])            # towards the crease
+    nP = (P - c1) / r1
+    h = np.array([0.4])
+    kinds = np.array([SIL])
+    st = trace_step(surf, kinds, P, T, np.zeros((1, 3)), h, 1e-10, math.radians(35), nP, retry=np.array([True]))
+    assert not st.ok[0]
+    st = trace_step(surf, kinds, P, T, np.zeros((1, 3)), h, 1e-10, math.radians(35), nP, retry=np.array([False]))
+    assert not st.ok[0]
+    # a short step stays on ball 1's silhouette
+    st = trace_step(surf, kinds, P, T, np.zeros((1, 3)), np.array([0.02]), 1e-10, math.radians(35), nP,
+                    retry=np.array([True]))
+    assert st.ok[0]
+    np.testing.assert_allclose(np.linalg.norm(st.X[0] - c1), r1, atol=1e-9)
+    assert abs(st.X[0, 1]) < 1e-9
