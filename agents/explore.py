@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..blackboard.board import FEATURE_KINDS
+from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from ..model.curvature import curvature
 from ..strokes import steering as st
 
@@ -31,6 +31,10 @@ def flagged_voxels(session):
     normals disagree on facing the eye (a silhouette) or diverge by more than the crease
     angle (a crease; theta_i of the manager). Polygon edges miss features smaller than
     a cell; these voxels are where agents look for them."""
+    return session.bb.surface_rows[_flags(session)]
+
+
+def _flags(session):
     s = session
     bb = s.bb
     rows = bb.surface_rows
@@ -42,7 +46,52 @@ def flagged_voxels(session):
         flag |= (facing > 0).any(axis=1) & (facing < 0).any(axis=1)
     if "crease" in s.settings.kinds:
         flag |= bb.vox["theta"][rows] > s.settings.crease_angle
-    return rows[flag]
+    return flag
+
+
+_PAIRS = np.array([(i, j) for i in range(8) for j in range(i + 1, 8)])
+
+
+def corner_features(session):
+    """Identify feature points in the flagged voxels where the polygon edges found none
+    of that kind: the voxel's eight corners are projected onto the surface (one batch,
+    each towards the projection of the voxel's centre where its own field is flat) and,
+    of the 28 pairs of projected corners, the one with the strongest sign change of n.v
+    (silhouette) or the widest normal angle beyond the crease angle (crease) becomes an
+    approximate feature point and its bracket. Sub-cell features (a vein's bump, a thin
+    rim) show in the corners' normals though no polygon edge crosses them."""
+    s = session
+    bb = s.bb
+    kinds = [k for k in ("silhouette", "crease") if k in s.settings.kinds]
+    flag = _flags(s)
+    if not kinds or not flag.any():
+        return 0
+    rows = bb.surface_rows[flag]
+    C = bb.corner_pos[flag]                                            # (k, 8, 3)
+    centre, _, _ = s.surface.project(C.mean(axis=1))
+    P, f, g = s.surface.project(C.reshape(-1, 3).copy(), anchor=np.repeat(centre, 8, axis=0))
+    on = (np.all(np.isfinite(P), axis=1) & (np.abs(f - s.ev.iso) <= 1e-6 * max(1.0, s.ev.iso))).reshape(-1, 8)
+    n = s.surface.normals(g).reshape(-1, 8, 3)
+    P = P.reshape(-1, 8, 3)
+    a, b = _PAIRS[:, 0], _PAIRS[:, 1]
+    both = on[:, a] & on[:, b]
+    added = 0
+    for kind in kinds:
+        if kind == "silhouette":
+            sil = np.einsum("vck,vck->vc", n, s.view.towards_eye(P))
+            score = np.where(both & ((sil[:, a] > 0) != (sil[:, b] > 0)), np.abs(sil[:, a]) + np.abs(sil[:, b]), -1.0)
+        else:
+            ang = np.arccos(np.clip(np.einsum("vpk,vpk->vp", n[:, a], n[:, b]), -1, 1))
+            score = np.where(both & (ang > s.settings.crease_angle), ang, -1.0)
+        have = bb.feat["voxel"][bb.feat["kind"] == KIND_ID[kind]]
+        v = np.flatnonzero((score.max(axis=1) > 0) & ~np.isin(rows, have))
+        if len(v) == 0:
+            continue
+        best = score[v].argmax(axis=1)
+        A, B = P[v, a[best]], P[v, b[best]]
+        bb.add_features(0.5 * (A + B), A, B, kind)
+        added += len(v)
+    return added
 
 
 def start(session, rows):

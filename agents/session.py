@@ -114,6 +114,8 @@ class Session:
         for kind in self.settings.kinds:
             pts, a, b = feats[kind]
             self.bb.add_features(pts, a, b, kind)
+        if self.settings.explore_detail:
+            explore.corner_features(self)
         self.vertex_normals = normals
         self.vertex_curvature = curv
         self.h = self.bb.h
