@@ -56,9 +56,10 @@ def corner_features(session):
     """Identify feature points in the flagged voxels where the polygon edges found none
     of that kind: the voxel's eight corners are projected onto the surface (one batch,
     each towards the projection of the voxel's centre where its own field is flat) and,
-    of the 28 pairs of projected corners, the one with the strongest sign change of n.v
-    (silhouette) or the widest normal angle beyond the crease angle (crease) becomes an
-    approximate feature point and its bracket. Sub-cell features (a vein's bump, a thin
+    of the 28 pairs of projected corners with a sign change of n.v (silhouette) or
+    normals apart by more than the crease angle (crease), the closest pair (the most
+    local bracket: corners may land on different parts) becomes an approximate feature
+    point and its bracket. Sub-cell features (a vein's bump, a thin
     rim) show in the corners' normals though no polygon edge crosses them."""
     s = session
     bb = s.bb
@@ -75,14 +76,16 @@ def corner_features(session):
     P = P.reshape(-1, 8, 3)
     a, b = _PAIRS[:, 0], _PAIRS[:, 1]
     both = on[:, a] & on[:, b]
+    near = 1.0 / (1e-300 + np.linalg.norm(P[:, a] - P[:, b], axis=2))     # (k, 28)
     added = 0
     for kind in kinds:
         if kind == "silhouette":
             sil = np.einsum("vck,vck->vc", n, s.view.towards_eye(P))
-            score = np.where(both & ((sil[:, a] > 0) != (sil[:, b] > 0)), np.abs(sil[:, a]) + np.abs(sil[:, b]), -1.0)
+            pair = (sil[:, a] > 0) != (sil[:, b] > 0)
         else:
             ang = np.arccos(np.clip(np.einsum("vpk,vpk->vp", n[:, a], n[:, b]), -1, 1))
-            score = np.where(both & (ang > s.settings.crease_angle), ang, -1.0)
+            pair = ang > s.settings.crease_angle
+        score = np.where(both & pair, near, -1.0)
         have = bb.feat["voxel"][bb.feat["kind"] == KIND_ID[kind]]
         v = np.flatnonzero((score.max(axis=1) > 0) & ~np.isin(rows, have))
         if len(v) == 0:

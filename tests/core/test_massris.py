@@ -287,6 +287,45 @@ def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
     assert s._near_traced(0, near, s.step_len, 8, n=turn(1.1 * half)) is None
 
 
+def test_a_feature_smaller_than_a_cell_is_seeded_from_the_corners_of_flagged_voxels():
+    """The same small sphere: at initialisation the flagged voxels around it, where no
+    polygon edge found a silhouette point, get one from their projected corners (a
+    bracket whose ends face the eye and away); traced with no explorer at all, it is
+    the sphere's closed silhouette circle."""
+    c = np.array([0.0, -1.0, 0.1])
+    model = model_of({"type": "union", "children": [{"type": "point", "center": [0, 0, 0], "radius": 1.6},
+                                                    {"type": "point", "center": c.tolist(), "radius": 0.2}]})
+    eye = np.array([0.0, -6.0, 0.5])
+    view = View(eye=tuple(eye))
+    rho = 0.2 * K
+    plain = Session(model, view, Settings(resolution=12, explore_detail=False))
+    s = Session(model, view, Settings(resolution=12))
+    sil = KIND_ID["silhouette"]
+
+    def near_small(sess):
+        f = sess.bb.feat
+        return np.flatnonzero((f["kind"] == sil) & (np.linalg.norm(f["pos"] - c, axis=1) < 2 * rho))
+
+    assert len(near_small(plain)) == 0
+    ids = near_small(s)
+    assert len(ids) > 0
+    f = s.bb.feat
+    for end in ("a", "b"):
+        np.testing.assert_allclose(s.ev.field(f[end][ids]), s.ev.iso, atol=1e-9)
+    na = s.surface.normals(s.ev.field_grad(f["a"][ids])[1])
+    nb = s.surface.normals(s.ev.field_grad(f["b"][ids])[1])
+    fa = np.einsum("ij,ij->i", na, view.towards_eye(f["a"][ids]))
+    fb = np.einsum("ij,ij->i", nb, view.towards_eye(f["b"][ids]))
+    assert np.all((fa > 0) != (fb > 0))
+    s._detail = np.zeros(0, np.int64)          # no exploration: the corner seeds alone
+    s.request("OUTLINES")
+    s.run()
+    assert s.done and len(s.explored) == 0
+    small = [o for o in s.outlines() if np.linalg.norm(o.points - c, axis=1).max() < 2 * rho]
+    assert len(small) == 1 and small[0].closed
+    np.testing.assert_allclose(np.linalg.norm(small[0].points - c, axis=1), rho, atol=1e-6)
+
+
 def test_a_feature_smaller_than_a_cell_is_found_by_exploring_flagged_voxels():
     """A small sphere near a big one: no polygon edge of a 12^3 grid crosses its
     silhouette; the voxels whose corner normals disagree on facing the eye are explored
