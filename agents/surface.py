@@ -163,9 +163,11 @@ class Surface:
     def ends(self, kinds, A, B, ref, anchor=None):
         """Bracket ends projected onto the surface, with their gradients and signed
         quantities: (A, gA, sA, B, gB, sB), as :meth:`bisect` takes them."""
-        A, _, gA = self.project(A, anchor=anchor)
-        B, _, gB = self.project(B, anchor=anchor)
-        return A, gA, self.signs(kinds, A, gA, ref), B, gB, self.signs(kinds, B, gB, ref)
+        m = len(A)
+        anchor = None if anchor is None else np.concatenate([anchor, anchor])
+        P, _, g = self.project(np.concatenate([A, B]), anchor=anchor)      # one batch
+        s = self.signs(np.concatenate([kinds, kinds]), P, g, np.concatenate([ref, ref]))
+        return P[:m], g[:m], s[:m], P[m:], g[m:], s[m:]
 
     def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None, anchor=None, ends=None):
         """Zero crossings between bracket ends A, B (on the surface, opposite signs).
@@ -218,7 +220,7 @@ class Surface:
                 # caller, which bisects again with the ends' own side normals)
                 dead |= ~jump[live] & (w > 0.25 * check[live])
                 check[live] = w
-            if it and it % (2 * PROGRESS_EVERY) == 0:
+            if it and it % PROGRESS_EVERY == 0:
                 # a crease bracket gets twice as long (it used to oscillate for all 60
                 # iterations between trial points landing off the segment)
                 dead |= jump[live] & (w > 0.25 * check_c[live])

@@ -51,13 +51,16 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
     tangent and a validity flag (a false alarm, or a smooth bend taken for a crease,
     is not valid)."""
-    a0 = np.asarray(a, float)
-    a, _, ga = surface.project(a0, anchor=b)
-    b, _, gb = surface.project(b, anchor=a0)
+    a0, b0 = np.asarray(a, float), np.asarray(b, float)
+    m = len(a0)
+    P, _, g = surface.project(np.concatenate([a0, b0]), anchor=np.concatenate([b0, a0]))   # one batch
+    a, b, ga, gb = P[:m], P[m:], g[:m], g[m:]
     na, nb = surface.normals(ga), surface.normals(gb)
     ref = na - nb
     eps = 0.25 * float(np.linalg.norm(b - a, axis=1).mean()) if len(a) else 1.0
-    X, gX, A, B, nA, nB, valid = surface.bisect(kinds, a, b, ref, tol, crease_angle=crease_angle)
+    s = surface.signs(np.concatenate([kinds, kinds]), P, g, np.concatenate([ref, ref]))
+    X, gX, A, B, nA, nB, valid = surface.bisect(kinds, None, None, ref, tol, crease_angle=crease_angle,
+                                                ends=(a, ga, s[:m], b, gb, s[m:]))
     cre = np.flatnonzero((kinds == CREASE) & valid)
     if len(cre):
         # creases: bisect once more from the narrowed bracket with its own side normals
