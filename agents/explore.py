@@ -4,11 +4,13 @@ seeks the voxel's centre when it strays) and identifies feature points by compar
 each step with the previous one: a sign change of n.v (silhouette), of the mean
 curvature, or a jump of the normal (crease). Found points go to the blackboard, where
 the manager turns them into tracing tasks."""
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
+from ..blackboard.polygonise import thin_parts
 from ..model.curvature import curvature
 from ..strokes import steering as st
 
@@ -97,6 +99,40 @@ def corner_features(session):
     return added
 
 
+def missed_sheets(ev, mesh):
+    """Sheets the rough polygonisation missed (parts thinner than a cell, found by
+    probing the grid edges: polygonise.thin_parts): probe points in cells without a
+    mesh vertex, or whose cell's vertex lies on another sheet (more than half a cell
+    away, or its normal 60 degrees apart). Returns the mesh with the new cells' points
+    as loose vertices (their voxels join the blackboard as surface voxels) and the
+    points, where explorers start."""
+    X, cells = thin_parts(ev, mesh)
+    if len(X) == 0:
+        return mesh, X
+    h = float(mesh.grid.cell[0])
+    vid = np.full(mesh.grid.res, -1, np.int64)
+    if len(mesh.cells):
+        vid[tuple(mesh.cells.T)] = np.arange(len(mesh.cells))
+    own = vid[tuple(cells.T)]
+    _, gx = ev.field_grad(X)
+    missed = own < 0
+    has = np.flatnonzero(~missed)
+    if len(has):
+        V = mesh.vertices[own[has]]
+        _, gv = ev.field_grad(V)
+        cos = np.einsum("ij,ij->i", gx[has], gv) / np.maximum(
+            np.linalg.norm(gx[has], axis=1) * np.linalg.norm(gv, axis=1), 1e-300)
+        missed[has] = (np.linalg.norm(X[has] - V, axis=1) > 0.5 * h) | (cos < 0.5)
+    X, cells, own = X[missed], cells[missed], own[missed]
+    new = np.flatnonzero(own < 0)
+    if len(new):
+        _, first = np.unique(np.ravel_multi_index(cells[new].T, mesh.grid.res), return_index=True)
+        new = new[np.sort(first)]                     # one loose vertex per new cell
+        mesh = dataclasses.replace(mesh, vertices=np.concatenate([mesh.vertices, X[new]]),
+                                   cells=np.concatenate([mesh.cells, cells[new]]))
+    return mesh, X
+
+
 def start(session, rows):
     """Send one free agent to each voxel row (as many rows as there are free agents are
     taken by the caller): all start positions projected in one batch."""
@@ -106,6 +142,9 @@ def start(session, rows):
         return
     s.explored.update(rows)
     centres = s.bb.lo + (s.bb.vox["ijk"][rows] + 0.5) * s.h
+    for i, r in enumerate(rows):
+        if r in s.explore_from:            # a probe point on a sheet the polygonisation missed
+            centres[i] = s.explore_from[r]
     P, f, g = s.surface.project(centres.copy())
     ok = np.all(np.isfinite(P), axis=1) & (np.abs(f - s.ev.iso) <= 1e-6 * max(1.0, s.ev.iso))
     if not ok.any():

@@ -108,6 +108,9 @@ class Session:
         self.rng = np.random.default_rng(self.settings.seed)
         t0 = time.perf_counter()
         self.mesh = polygonise(self.ev, int(self.settings.resolution))
+        missed = np.zeros((0, 3))
+        if self.settings.explore_detail:
+            self.mesh, missed = explore.missed_sheets(self.ev, self.mesh)
         self.bb, curv = from_mesh(self.mesh, self.ev, lambda P, g: curvature(self.ev, P, g))
         normals = curv["normal"]
         feats = process_edges(self.mesh, normals, curv["mean"], view, self.settings.crease_angle)
@@ -134,6 +137,9 @@ class Session:
         self.requests = []
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once
+        # explorers start on the sheets the polygonisation missed, from the probe points
+        self.explore_from = {}
+        self._missed = missed
 
     def _queue_detail(self):
         """Once the polygon edges' seeds are traced: explore the voxels the blackboard
@@ -161,6 +167,12 @@ class Session:
             self._queue_exploration(region, all_surface=True)
         elif kind == "OUTLINES" and region is not None:
             self._queue_exploration(region, all_surface=False)
+        if kind in ("OUTLINES", "FIND_FEATURES") and len(self._missed):
+            P = self._missed if region is None else self._missed[region.contains(self._missed)]
+            for row, p in zip(self.bb.voxel_rows(self.bb.voxel_of(P)), P):
+                if int(row) not in self.explored and int(row) not in self.explore_from:
+                    self.explore_from[int(row)] = p
+                    self.explore_queue.insert(0, int(row))
 
     def _queue_exploration(self, region, all_surface):
         v = self.bb.vox

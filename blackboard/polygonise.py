@@ -220,3 +220,87 @@ def project(ev, P, steps, max_step=None):
     f, g = ev.field_grad(P)
     newton(ev, P, f, g, steps, max_step)
     return P
+
+
+def thin_parts(ev, mesh, max_probes=200000):
+    """Surface in cells the grid's sign changes miss: a part thinner than a cell (a
+    wheel's disc between two grid planes) or a gap narrower than one. Along each grid
+    edge whose ends are on the same side of iso, the field's cubic Hermite interpolant
+    (from the ends' values and gradients) is checked for an interior peak (both ends
+    outside) or dip (both inside); the field at that extremum is evaluated (one batch)
+    and where it has the other sign, the edge's two crossings are refined. Returns
+    (points on the surface, their cells)."""
+    grid = mesh.grid
+    f, iso, h, lo = grid.field, ev.iso, grid.cell, grid.lo
+    inside = f >= iso
+    # gradients at the corners of the support shell (outside with a field, or inside
+    # near the surface): the only corners whose edges can hold an extremum
+    need = (f > 0) & (f < 1.0) if iso < 1.0 else f > 0
+    nidx = np.argwhere(need)
+    G = np.zeros(f.shape + (3,))
+    if len(nidx) == 0:
+        return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
+    _, g = ev.field_grad(lo + nidx * h)
+    G[tuple(nidx.T)] = g
+    cand = []
+    for a in range(3):
+        sl0 = [slice(None)] * 3
+        sl1 = [slice(None)] * 3
+        sl0[a] = slice(0, -1)
+        sl1[a] = slice(1, None)
+        sl0, sl1 = tuple(sl0), tuple(sl1)
+        same = (inside[sl0] == inside[sl1]) & (need[sl0] | need[sl1])
+        ijk = np.argwhere(same)
+        if len(ijk) == 0:
+            continue
+        f0, f1 = f[sl0][same], f[sl1][same]
+        s0, s1 = G[sl0][same][:, a] * h[a], G[sl1][same][:, a] * h[a]
+        up = ~inside[sl0][same]                     # both outside: look for a peak
+        # towards each other: rising into the edge from both ends (peak), falling (dip);
+        # an end outside every support (no field, no gradient) counts as rising
+        ok = np.where(up, (s0 >= 0) & (s1 <= 0), (s0 <= 0) & (s1 >= 0)) & ((s0 != 0) | (s1 != 0))
+        ijk, f0, f1, s0, s1, up = ijk[ok], f0[ok], f1[ok], s0[ok], s1[ok], up[ok]
+        # p(t) = A t^3 + B t^2 + s0 t + f0; p'(t) = 3A t^2 + 2B t + s0 = 0
+        A = 2 * (f0 - f1) + s0 + s1
+        B = 3 * (f1 - f0) - 2 * s0 - s1
+        qa, qb, qc = 3 * A, 2 * B, s0
+        disc = np.maximum(qb * qb - 4 * qa * qc, 0.0)
+        sq = np.sqrt(disc)
+        lin = np.abs(qa) < 1e-12
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r1 = np.where(lin, -qc / np.where(qb == 0, 1.0, qb), (-qb + sq) / np.where(lin, 1.0, 2 * qa))
+            r2 = np.where(lin, r1, (-qb - sq) / np.where(lin, 1.0, 2 * qa))
+        best = np.full(len(ijk), 0.5)
+        val = np.where(up, -np.inf, np.inf)
+        for r in (r1, r2):
+            r = np.where(np.isfinite(r), r, 0.5)
+            inr = (r > 0) & (r < 1)
+            p = ((A * r + B) * r + s0) * r + f0
+            better = inr & np.where(up, p > val, p < val)
+            best = np.where(better, r, best)
+            val = np.where(better, p, val)
+        cand.append((a, ijk, best))
+    if not cand:
+        return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
+    E0 = np.concatenate([lo + ijk * h for _, ijk, _ in cand])
+    step = np.concatenate([np.tile(np.eye(3)[a] * h, (len(ijk), 1)) for a, ijk, _ in cand])
+    t = np.concatenate([t for _, _, t in cand])
+    if len(E0) > max_probes:          # the most promising would need a score; keep a spread
+        keep = np.linspace(0, len(E0) - 1, max_probes).astype(int)
+        E0, step, t = E0[keep], step[keep], t[keep]
+    Pm = E0 + t[:, None] * step
+    fm = ev.field(Pm)
+    fe0, fe1 = ev.field(E0), ev.field(E0 + step)
+    flip = (fm >= iso) != (fe0 >= iso)
+    if not flip.any():
+        return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
+    E0, E1, Pm, fm, fe0, fe1 = E0[flip], (E0 + step)[flip], Pm[flip], fm[flip], fe0[flip], fe1[flip]
+    X = np.concatenate([_refine_crossings(ev, E0, Pm, fe0, fm), _refine_crossings(ev, Pm, E1, fm, fe1)])
+    X = project(ev, X, steps=6, max_step=h.max())
+    fx, gx = ev.field_grad(X)
+    ok = (np.abs(fx - iso) <= 1e-9 * max(1.0, abs(iso))) & (np.einsum("ij,ij->i", gx, gx) > 0)
+    X = X[ok]
+    cells = np.floor((X - lo) / h).astype(np.int64)
+    inb = np.all((cells >= 0) & (cells < np.array(grid.res)), axis=1)
+    X, cells = X[inb], cells[inb]
+    return X, cells

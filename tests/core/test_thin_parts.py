@@ -1,0 +1,77 @@
+"""Parts thinner than a grid cell: a disc lying between two grid planes has no sign
+change on any grid edge, so the rough polygonisation misses it; probing the grid edges
+(polygonise.thin_parts) finds it, and a MASSRIS session explores from there and traces
+its rim."""
+import numpy as np
+import pytest
+
+from blobtree_ink import model as M
+from blobtree_ink.agents import Session, Settings
+from blobtree_ink.blackboard.polygonise import polygonise, thin_parts
+from blobtree_ink.blackboard.view import View
+
+from test_massris import K, model_of
+
+DISC_C = np.array([2.4, 0.0, 0.0])
+HALF = 0.12 * K          # half the disc's thickness (a disc skeleton with radius 0.12)
+
+
+def disc_model(y):
+    return model_of({"type": "union", "children": [
+        {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.6},
+        {"type": "disc", "center": [DISC_C[0], y, 0.0], "normal": [0, 1, 0], "disc_radius": 0.45, "radius": 0.12}]})
+
+
+@pytest.fixture(scope="module")
+def missed():
+    """The disc placed where the resolution-10 grid misses it (the first of a few
+    offsets whose mesh has no vertex near the disc: where grid planes fall is exact
+    arithmetic, so the choice is deterministic)."""
+    for y in np.linspace(0.0, 0.3, 13):
+        ev = M.Evaluator(disc_model(y))
+        mesh = polygonise(ev, 10)
+        near = np.linalg.norm(mesh.vertices - (DISC_C + [0, y, 0]), axis=1) < 0.8
+        if not near.any():
+            return y, ev, mesh
+    raise AssertionError("every offset put a grid plane through the disc")
+
+
+def test_probing_the_grid_edges_finds_a_disc_the_grid_missed(missed):
+    y, ev, mesh = missed
+    X, cells = thin_parts(ev, mesh)
+    on_disc = np.linalg.norm(X - (DISC_C + [0, y, 0]), axis=1) < 0.8
+    assert on_disc.sum() >= 4
+    P = X[on_disc]
+    np.testing.assert_allclose(ev.field(P), ev.iso, atol=1e-9)
+    assert np.all(np.abs(P[:, 1] - y) <= HALF + 1e-9)           # on the disc's faces or rim
+    # each point lies in its reported cell
+    np.testing.assert_array_equal(cells[on_disc], np.floor((P - mesh.grid.lo) / mesh.grid.cell).astype(int))
+
+
+def test_nothing_is_found_where_the_grid_saw_everything():
+    ev = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
+    X, _ = thin_parts(ev, polygonise(ev, 12))
+    assert len(X) == 0
+
+
+def test_a_session_traces_the_rim_of_the_missed_disc(missed):
+    y, ev, _ = missed
+    centre = DISC_C + [0, y, 0]
+    view = View(eye=(2.4, -6.0, 3.0))
+    plain = Session(ev, view, Settings(resolution=10, explore_detail=False))
+    plain.request("OUTLINES")
+    plain.run()
+    assert all(np.linalg.norm(o.points - centre, axis=1).min() > 0.8 for o in plain.outlines())
+    s = Session(ev, view, Settings(resolution=10))
+    s.request("OUTLINES")
+    s.run()
+    assert s.done
+    rim = [o for o in s.outlines() if o.kind == "silhouette" and np.linalg.norm(o.points - centre, axis=1).max() < 0.8]
+    assert rim
+    pts = np.concatenate([o.points for o in rim])
+    np.testing.assert_allclose(ev.field(pts), ev.iso, atol=1e-9)
+    # the rim's silhouette runs all round the disc: its points spread over every
+    # direction around the centre in the disc's plane
+    ang = np.arctan2(pts[:, 2] - centre[2], pts[:, 0] - centre[0])
+    hist, _ = np.histogram(ang, bins=8, range=(-np.pi, np.pi))
+    assert np.all(hist > 0)
