@@ -10,7 +10,7 @@ from .surface import unit
 
 OFFSET = 0.15       # seeds lie this many steps into their sheet (a silhouette meeting the
                     # crease obliquely still crosses the seed bracket); the two sheets'
-                    # seeds are told apart by their normals (Session._near_traced)
+                    # seeds are told apart by their normals (TracedPoints.near)
 
 
 def sides(view, X, A, B, nA, nB):

@@ -29,8 +29,8 @@ from . import crease_seeds, explore, manager
 from .stitch import stitch
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
+from .traced import SELF_GAP, TracedPoints
 
-SELF_GAP = 6        # steps along an outline within which its own points do not stop it
 REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
 
 
@@ -133,7 +133,7 @@ class Session:
         self.explore_queue = []     # voxel rows waiting for an explorer
         self.explored = set()
         self.done_outlines = []
-        self.traced = {k: {} for k in range(len(FEATURE_KINDS))}   # cell -> list of outline ids
+        self.traced = TracedPoints(self.step_len, self.settings.crease_angle)
         self.requests = []
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once
@@ -151,9 +151,9 @@ class Session:
         v = self.bb.vox
         centres = self.bb.lo + (v["ijk"][self._detail] + 0.5) * self.h
         rows = self._detail[self._in_regions(centres)]
-        pts = [p for table in self.traced.values() for items in table.values() for _, p, _, _ in items]
-        if pts:
-            covered = self.bb.voxel_rows(self.bb.voxel_of(np.array(pts)), create=False)
+        pts = self.traced.points()
+        if len(pts):
+            covered = self.bb.voxel_rows(self.bb.voxel_of(pts), create=False)
             rows = rows[~np.isin(rows, covered)]
         order = rows[np.argsort(-self.priority[rows], kind="stable")]
         self.explore_queue.extend(int(r) for r in order if int(r) not in self.explored)
@@ -279,7 +279,7 @@ class Session:
             sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
-            if self._near_traced(k, X[i], 1.0 * self.step_len, None, n=n[i]) is not None:
+            if self.traced.near(k, X[i], 1.0 * self.step_len, None, n=n[i]) is not None:
                 continue
             need = 2 if k == KIND_ID["crease"] else 1
             agents = tuple(self.free.pop() for _ in range(need))
@@ -288,7 +288,7 @@ class Session:
             tr.sides = tr.start_sides = sides.get(i)
             tr.fwd.append(X[i])
             tr.fwd_n.append(n[i])
-            self._remember(k, X[i], tr.id, 0, n[i])
+            self.traced.remember(k, X[i], tr.id, 0, n[i])
             self.traces.append(tr)
 
     def _step_traces(self):
@@ -324,7 +324,7 @@ class Session:
                 arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
                 if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * self.step_len:
                     end = "closed"
-                elif (hit := self._near_traced(tr.kind, X[i], 1.0 * self.step_len, tr.id, arc, n[i])) is not None:
+                elif (hit := self.traced.near(tr.kind, X[i], 1.0 * self.step_len, tr.id, arc, n[i])) is not None:
                     # an outline is here: stop short; come round onto its own seed, it closed
                     end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
                 elif steps >= self.settings.max_outline_steps:
@@ -332,7 +332,7 @@ class Session:
                 else:
                     mine.append(X[i])
                     (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
-                    self._remember(tr.kind, X[i], tr.id, arc, n[i])
+                    self.traced.remember(tr.kind, X[i], tr.id, arc, n[i])
                     tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
                     tr.h = min(self.step_len, 1.5 * tr.h)
                     self.bb.consume_near(X[i:i + 1], FEATURE_KINDS[tr.kind], 0.75 * self.h)
@@ -344,7 +344,7 @@ class Session:
             elif end == "closed":
                 tr.closed = True
                 self._finish(tr)
-            elif tr.phase == "fwd" and self._near_traced(tr.kind, tr.start, 1.0 * self.step_len, tr.id,
+            elif tr.phase == "fwd" and self.traced.near(tr.kind, tr.start, 1.0 * self.step_len, tr.id,
                                                          n=tr.fwd_n[0]) is None:
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
@@ -365,38 +365,6 @@ class Session:
         self.free.extend(tr.agents)
         if pts:                    # even a single point: other traces stopped short of it
             self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed))
-
-    def _cell(self, p):
-        return tuple(np.floor(p / self.step_len).astype(int))
-
-    def _remember(self, kind, p, tid, arc, n):
-        """A traced point, with its outline's id, its step index along the outline
-        (0 the seed, + forwards, - backwards) and its normal."""
-        self.traced[kind].setdefault(self._cell(p), []).append((tid, p, arc, n))
-
-    def _near_traced(self, kind, p, radius, own, arc=None, n=None):
-        """A traced point of this kind within radius of p, as (outline id, step index),
-        or None. Points of the outline ``own`` count only given p's step index ``arc``
-        and when more than SELF_GAP steps away along the outline (a trace coming round
-        onto its own other end, or its backward half meeting its forward half, stops).
-        Given the normal ``n`` at p, silhouette and curvature-sign points on another
-        sheet (normals apart by half the crease angle: the far side of a crease, where
-        a different outline ends) do not count; crease points have no one normal."""
-        sheet = n is not None and kind != KIND_ID["crease"]
-        cos = np.cos(0.5 * self.settings.crease_angle)
-        c = self._cell(p)
-        table = self.traced[kind]
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    for tid, q, qa, qn in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
-                        if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
-                            continue
-                        if sheet and qn @ n < cos:
-                            continue
-                        if np.linalg.norm(q - p) < radius:
-                            return (tid, qa)
-        return None
 
     # --- results ----------------------------------------------------------------------
     def outlines(self, include_active=True):

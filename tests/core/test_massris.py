@@ -268,23 +268,23 @@ def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
     """Its own points count for a trace only beyond SELF_GAP steps along it: a
     backward half that meets the forward half stops (it used to go round a small loop
     for ever)."""
-    from blobtree_ink.agents.session import SELF_GAP
+    from blobtree_ink.agents.traced import SELF_GAP
     s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
     p = np.array([1.0, 0.0, 0.0])
-    s._remember(0, p, 7, 3, np.array([1.0, 0, 0]))
+    s.traced.remember(0, p, 7, 3, np.array([1.0, 0, 0]))
     near = p + [0.1 * s.step_len, 0, 0]
-    assert s._near_traced(0, near, s.step_len, 7, 3 + SELF_GAP) is None        # its last steps
-    assert s._near_traced(0, near, s.step_len, 7, 3 + SELF_GAP + 1) == (7, 3)  # its far part
-    assert s._near_traced(0, near, s.step_len, 7, -(SELF_GAP + 1)) == (7, 3)   # backward half
-    assert s._near_traced(0, near, s.step_len, 8) == (7, 3)                    # another outline
-    assert s._near_traced(1, near, s.step_len, 8) is None                      # another kind
-    assert s._near_traced(0, p + [2 * s.step_len, 0, 0], s.step_len, 8) is None
+    assert s.traced.near(0, near, s.step_len, 7, 3 + SELF_GAP) is None        # its last steps
+    assert s.traced.near(0, near, s.step_len, 7, 3 + SELF_GAP + 1) == (7, 3)  # its far part
+    assert s.traced.near(0, near, s.step_len, 7, -(SELF_GAP + 1)) == (7, 3)   # backward half
+    assert s.traced.near(0, near, s.step_len, 8) == (7, 3)                    # another outline
+    assert s.traced.near(1, near, s.step_len, 8) is None                      # another kind
+    assert s.traced.near(0, p + [2 * s.step_len, 0, 0], s.step_len, 8) is None
     # a point with its normal: the same sheet counts, another sheet (across a crease,
     # normals apart by more than half the crease angle) does not
     half = 0.5 * s.settings.crease_angle
     turn = lambda a: np.array([np.cos(a), np.sin(a), 0.0])
-    assert s._near_traced(0, near, s.step_len, 8, n=turn(0.9 * half)) == (7, 3)
-    assert s._near_traced(0, near, s.step_len, 8, n=turn(1.1 * half)) is None
+    assert s.traced.near(0, near, s.step_len, 8, n=turn(0.9 * half)) == (7, 3)
+    assert s.traced.near(0, near, s.step_len, 8, n=turn(1.1 * half)) is None
 
 
 def test_a_feature_smaller_than_a_cell_is_seeded_from_the_corners_of_flagged_voxels():
