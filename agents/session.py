@@ -269,7 +269,7 @@ class Session:
 
     def _start_traces(self, ids):
         f = self.bb.feat
-        f.cols["used"][ids] = True
+        self.bb.consume(ids)
         kinds = f["kind"][ids].astype(np.int64)
         X, n, T, ref, A, B, valid = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
                                                  self.settings.crease_angle)
@@ -309,6 +309,7 @@ class Session:
         side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
         rows = self.bb.add_samples(X, st.f, st.g, "path")
         still = []
+        covered = []                           # trace points appended this iteration
         for i, tr in enumerate(trs):
             end = None
             if not ok[i] and tr.h > self.step_len / 16:     # (trace_step's retry)
@@ -335,7 +336,7 @@ class Session:
                     self.traced.remember(tr.kind, X[i], tr.id, arc, n[i])
                     tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
                     tr.h = min(self.step_len, 1.5 * tr.h)
-                    self.bb.consume_near(X[i:i + 1], FEATURE_KINDS[tr.kind], 0.75 * self.h)
+                    covered.append(i)
             if end is None:
                 still.append(tr)
             elif end == "closed" and tr.phase == "fwd":
@@ -354,10 +355,24 @@ class Session:
             else:
                 self._finish(tr)
         self.traces = still
+        self._consume_covered(kinds[covered], X[covered], n[covered])
         if side_seeds:
             a, b = np.array([x for x, _ in side_seeds]), np.array([y for _, y in side_seeds])
             self.bb.add_features(0.5 * (a + b), a, b, "silhouette")
         return [rows]
+
+    def _consume_covered(self, kinds, X, n):
+        """Open seeds within 0.75 voxel of this iteration's new trace points are taken as
+        traced, unless (silhouettes, curvature-sign lines) their normal shows them on
+        another sheet: the inner and outer silhouettes of a thin lip lie that close."""
+        cos = np.cos(0.5 * self.settings.crease_angle)
+        for k in np.unique(kinds):
+            m = kinds == k
+            ids, j = self.bb.open_near(X[m], FEATURE_KINDS[k], 0.75 * self.h)
+            if len(ids) and k != KIND_ID["crease"]:
+                _, g = self.ev.field_grad(self.bb.feat["a"][ids])
+                ids = ids[np.einsum("ij,ij->i", self.surface.normals(g), n[m][j]) > cos]
+            self.bb.consume(ids)
 
     def _finish(self, tr):
         pts = tr.bwd[::-1] + tr.fwd

@@ -209,19 +209,28 @@ class Blackboard:
             ok &= self.feat["kind"] == KIND_ID[kind]
         return np.flatnonzero(ok)
 
-    def consume_near(self, P, kind, radius):
-        """Mark open feature points of this kind within radius of any of P as used."""
+    def open_near(self, P, kind, radius):
+        """Open feature points of this kind within radius of any of P: their ids and,
+        for each, the index of its nearest point of P."""
         ids = self.open_features(kind)
-        if len(ids) == 0 or len(P) == 0:
-            return 0
-        fp = self.feat["pos"][ids]
         P = np.atleast_2d(P)
-        hit = np.zeros(len(ids), bool)
+        if len(ids) == 0 or len(P) == 0:
+            return np.zeros(0, np.int64), np.zeros(0, np.int64)
+        fp = self.feat["pos"][ids]
+        best = np.full(len(ids), np.inf)
+        which = np.zeros(len(ids), np.int64)
         for a in range(0, len(P), 256):
             d2 = ((fp[:, None, :] - P[None, a:a + 256, :]) ** 2).sum(-1)
-            hit |= (d2 < radius * radius).any(1)
-        self.feat.cols["used"][ids[hit]] = True
-        return int(hit.sum())
+            j = d2.argmin(axis=1)
+            d = d2[np.arange(len(ids)), j]
+            closer = d < best
+            best[closer], which[closer] = d[closer], a + j[closer]
+        hit = best < radius * radius
+        return ids[hit], which[hit]
+
+    def consume(self, ids):
+        """Mark feature points as used (taken, or covered by a traced outline)."""
+        self.feat.cols["used"][ids] = True
 
 
 def from_mesh(mesh: Mesh, ev, curvature_fn):

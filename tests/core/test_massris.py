@@ -380,3 +380,22 @@ def test_silhouette_arcs_are_seeded_where_a_traced_crease_meets_them():
         ref = ref[np.linalg.norm(ref - oc, axis=1) > K * oR + 0.02]    # the arc outside the other ball
         worst, covered = coverage(pts, ref, 0.01 * r)
         assert len(ref) > 100 and covered > 0.97, (worst, covered)
+
+
+def test_new_trace_points_cover_open_seeds_of_their_own_sheet_only(load_example):
+    """Open seeds within 0.75 voxel of a new trace point are taken as traced, unless
+    their normal shows another sheet (the inner and outer silhouettes of a thin lip
+    lie that close); crease seeds, which have no one normal, are covered by distance."""
+    s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
+    s.bb.consume(np.arange(len(s.bb.feat)))               # only the seeds made here are open
+    r = K
+    p = np.array([r, 0.0, 0.0])                            # on the sphere, its normal +x
+    q = p + [0.0, 0.0, 0.2 * s.h]
+    same = s.bb.add_features(q, np.array([r * 0.999, 0.0, r * 0.045]), q, "silhouette")   # a near p: +x sheet
+    other = s.bb.add_features(q, np.array([-r, 0.0, 0.0]), q, "silhouette")              # a on the -x side
+    crease = s.bb.add_features(q, np.array([-r, 0.0, 0.0]), q, "crease")
+    far = s.bb.add_features(p + [0.0, 0.0, 2 * s.h], p, p, "silhouette")
+    s._consume_covered(np.array([KIND_ID["silhouette"], KIND_ID["crease"]]), np.array([p, p]),
+                       np.array([[1.0, 0, 0], [1.0, 0, 0]]))
+    f = s.bb.feat["used"]
+    assert f[same[0]] and not f[other[0]] and f[crease[0]] and not f[far[0]]
