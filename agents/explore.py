@@ -11,6 +11,7 @@ import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from ..blackboard.polygonise import thin_parts
+from ..model.csg import subtracted_centres
 from ..model.curvature import curvature
 from ..strokes import steering as st
 
@@ -131,6 +132,31 @@ def missed_sheets(ev, mesh):
         mesh = dataclasses.replace(mesh, vertices=np.concatenate([mesh.vertices, X[new]]),
                                    cells=np.concatenate([mesh.cells, cells[new]]))
     return mesh, X
+
+
+_AXES = np.concatenate([np.eye(3), -np.eye(3)])
+_MARCH = np.linspace(0.0, 2.0, 17)
+
+
+def subtracted_walls(session, model):
+    """Points on the walls of the parts the model's differences cut away, where
+    explorers start: from the centre of each subtracted primitive (model.csg), the
+    first crossing of iso along each axis direction within two voxels (one batch),
+    projected onto the surface. A wheel's holes are smaller than a cell of a rough grid;
+    their creases start where these walls meet the faces they are cut from."""
+    s = session
+    C = subtracted_centres(model.root)
+    if len(C) == 0:
+        return np.zeros((0, 3))
+    R = C[:, None, None, :] + _AXES[None, :, None, :] * (_MARCH * s.h)[None, None, :, None]
+    f = s.ev.field(R.reshape(-1, 3)).reshape(len(C), len(_AXES), len(_MARCH)) - s.ev.iso
+    flip = (f[..., 1:] > 0) != (f[..., :1] > 0)
+    ci, di = np.nonzero(flip.any(axis=-1))
+    if len(ci) == 0:
+        return np.zeros((0, 3))
+    j = np.argmax(flip[ci, di], axis=-1)
+    P, fp, _ = s.surface.project(R[ci, di, j + 1].copy(), anchor=R[ci, di, j])
+    return P[np.abs(fp - s.ev.iso) <= 1e-9 * max(1.0, s.ev.iso)]
 
 
 def start(session, rows):

@@ -124,6 +124,8 @@ class Session:
         self.h = self.bb.h
         self.step_len = self.settings.step * self.h
         self.tol = self.settings.tolerance * self.ev.scale
+        if self.settings.explore_detail:
+            missed = np.concatenate([missed, explore.subtracted_walls(self, self.ev.model)])
         self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), self.settings.lod)["priority"]
         self.init_seconds = time.perf_counter() - t0
         self.iteration = 0
@@ -137,7 +139,8 @@ class Session:
         self.requests = []
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once
-        # explorers start on the sheets the polygonisation missed, from the probe points
+        # explorers start on the sheets the polygonisation missed (probe points) and on
+        # the walls of subtracted parts
         self.explore_from = {}
         self._missed = missed
 
