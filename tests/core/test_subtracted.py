@@ -73,3 +73,17 @@ def test_a_dimple_smaller_than_a_cell_gets_its_crease_traced():
     ang = np.arctan2(P[:, 2], P[:, 0])
     hist, _ = np.histogram(ang, bins=6, range=(-np.pi, np.pi))
     assert np.all(hist > 0)
+
+
+def test_wall_probes_are_bounded_for_models_with_very_many_subtracted_parts(monkeypatch):
+    """A hostile model may subtract up to the format's node limit: only a spread subset
+    of MAX_WALL_PROBES centres is probed (here the limit is lowered to 3 of 12)."""
+    holes = [{"type": "point", "center": [1.6 * K * math.cos(a), -0.0, 1.6 * K * math.sin(a)], "radius": 0.25}
+             for a in np.linspace(0, 2 * math.pi, 12, endpoint=False)]
+    model = model_of({"type": "difference", "children": [
+        {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.6}] + holes})
+    s = Session(model, View(eye=(0.0, -6.0, 2.0)), Settings(resolution=8))
+    full = explore.subtracted_walls(s, s.ev.model)
+    monkeypatch.setattr(explore, "MAX_WALL_PROBES", 3)
+    few = explore.subtracted_walls(s, s.ev.model)
+    assert 0 < len(few) <= 3 * 6 < len(full)
