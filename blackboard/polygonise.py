@@ -132,6 +132,13 @@ def _refine_crossings(ev, A, B, fA, fB, iters=12):
     return A + t[:, None] * (B - A)
 
 
+def _edge_ends(a):
+    """Index tuples of the lower and upper corners of every grid edge along axis a."""
+    sl0, sl1 = [slice(None)] * 3, [slice(None)] * 3
+    sl0[a], sl1[a] = slice(0, -1), slice(1, None)
+    return tuple(sl0), tuple(sl1)
+
+
 def mesh_from_grid(ev, grid, project_steps=6):
     f, iso, h, lo = grid.field, ev.iso, grid.cell, grid.lo
     nx, ny, nz = grid.res
@@ -142,15 +149,12 @@ def mesh_from_grid(ev, grid, project_steps=6):
     edge_lists = []
     crossings = []
     for a in range(3):
-        sl0 = [slice(None)] * 3
-        sl1 = [slice(None)] * 3
-        sl0[a] = slice(0, -1)
-        sl1[a] = slice(1, None)
-        f0, f1 = f[tuple(sl0)], f[tuple(sl1)]
-        change = inside[tuple(sl0)] != inside[tuple(sl1)]
+        sl0, sl1 = _edge_ends(a)
+        f0, f1 = f[sl0], f[sl1]
+        change = inside[sl0] != inside[sl1]
         ijk = np.argwhere(change)                      # lower corner of each crossing edge
         crossings.append((a, ijk, f0[change], f1[change]))
-        edge_lists.append((a, ijk, inside[tuple(sl0)][change]))
+        edge_lists.append((a, ijk, inside[sl0][change]))
     # every crossing edge refined in one batch
     A = np.concatenate([lo + ijk * h for _, ijk, _, _ in crossings])
     step = np.concatenate([np.tile(np.eye(3)[a] * h, (len(ijk), 1)) for a, ijk, _, _ in crossings])
@@ -244,11 +248,7 @@ def thin_parts(ev, mesh, max_probes=200000):
     G[tuple(nidx.T)] = g
     cand = []
     for a in range(3):
-        sl0 = [slice(None)] * 3
-        sl1 = [slice(None)] * 3
-        sl0[a] = slice(0, -1)
-        sl1[a] = slice(1, None)
-        sl0, sl1 = tuple(sl0), tuple(sl1)
+        sl0, sl1 = _edge_ends(a)
         same = (inside[sl0] == inside[sl1]) & (need[sl0] | need[sl1])
         ijk = np.argwhere(same)
         if len(ijk) == 0:
