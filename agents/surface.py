@@ -95,14 +95,15 @@ class Surface:
         across its tangent T (v: towards the eye, unnormalised for a perspective view).
         Each iteration is one batched evaluation of field, gradient and Hessian (the
         Hessian by central differences of the analytic gradient: seven points per point).
-        Returns X, the gradient and Hessian of its last iteration, and whether each point
-        converged (the last step below ``tol``) without a singular system (a cusp, a fold
-        of the silhouette) or moving further than ``reach`` from Q; the caller falls
-        back to bracketing for the others."""
+        Returns X, the gradient and Hessian of its last iteration, the silhouette's
+        tangent there (grad f x grad(grad f . v), turned along T: the next step's
+        direction), and whether each point converged (the last step below ``tol``)
+        without a singular system (a cusp, a fold of the silhouette) or moving further
+        than ``reach`` from Q; the caller falls back to bracketing for the others."""
         X = np.array(Q, float)
         m = len(X)
         reach = np.broadcast_to(reach, (m,))
-        G, H = np.zeros((m, 3)), np.zeros((m, 3, 3))
+        G, H, Tout = np.zeros((m, 3)), np.zeros((m, 3, 3)), np.array(T, float)
         ok = np.zeros(m, bool)
         live = np.arange(m)
         for _ in range(NEWTON_ITERS):
@@ -118,6 +119,8 @@ class Surface:
                 w = np.broadcast_to(-self.view.direction, x.shape)
                 ds = np.einsum("nij,nj->ni", h, w)
             Tl = T[live]
+            tan = unit(np.cross(g, ds))
+            Tout[live] = np.where(np.einsum("ij,ij->i", tan, Tl)[:, None] < 0, -tan, tan)
             J = np.stack([g, ds, Tl], axis=1)                                  # (k, 3, 3)
             r = -np.stack([f - self.iso, np.einsum("ij,ij->i", g, w),
                            np.einsum("ij,ij->i", x - Q[live], Tl)], axis=1)
@@ -138,7 +141,7 @@ class Surface:
             done = good & (step <= tol) & ~far
             ok[live[done]] = True
             live = live[good & ~done & ~far & np.isfinite(step)]
-        return X, G, H, ok
+        return X, G, H, Tout, ok
 
     @staticmethod
     def normals(g):

@@ -96,9 +96,10 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     A_out, B_out = np.zeros((m, 3)), np.zeros((m, 3))
     nA_out, nB_out = np.zeros((m, 3)), np.zeros((m, 3))
     found = np.zeros(m, bool)
+    tangent = np.full((m, 3), np.nan)          # the next direction, where Newton gave one
     sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
     if len(sil):
-        Xs, Gs, Hs, conv = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol)
+        Xs, Gs, Hs, Ts, conv = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol)
         # the gradient at P predicted from X through the Hessian must match P's normal: a
         # step across a crease (a jump of the gradient) goes to the bracketing, which
         # ends a silhouette there
@@ -107,6 +108,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
         got = sil[conv]
         X[got] = A_out[got] = B_out[got] = Xs[conv]
         nA_out[got] = nB_out[got] = surface.normals(Gs[conv])
+        tangent[got] = Ts[conv]
         found[got] = True
     todo = ~found
     if len(sil) and retry is not None:
@@ -135,7 +137,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
     ok &= (adv > 0.2 * h) & (np.linalg.norm(step, axis=1) < 2.5 * h)
-    Tn = unit(step)
+    Tn = np.where(np.isfinite(tangent[:, :1]), tangent, unit(step))
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok)

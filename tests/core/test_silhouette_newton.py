@@ -33,15 +33,20 @@ def test_newton_lands_on_the_exact_silhouette_circle_in_the_plane_across_the_tan
     on = centre + rad * (np.cos(a)[:, None] * u + np.sin(a)[:, None] * w)
     T = -np.sin(a)[:, None] * u + np.cos(a)[:, None] * w          # along the circle
     Q = on + 0.05 * T + 0.03 * axis                                 # a predictor off the circle
-    X, G, H, ok = surf.silhouette_newton(Q, T, 0.2, 1e-10)
+    X, G, H, Tn, ok = surf.silhouette_newton(Q, T, 0.2, 1e-10)
     assert ok.all()
+    # the tangent handed on is the circle's at X, turned along T
+    t = np.cross(axis, X - centre)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->i", Tn, t)), 1.0, atol=1e-6)
+    assert np.all(np.einsum("ij,ij->i", Tn, T) > 0)
     np.testing.assert_allclose(np.linalg.norm(X, axis=1), r, atol=1e-12)
     n = surf.normals(surf.ev.field_grad(X)[1])
     v = surf.view.towards_eye(X)
     assert np.abs(np.einsum("ij,ij->i", n, v)).max() < 1e-10
     np.testing.assert_allclose(np.einsum("ij,ij->i", X - Q, T), 0.0, atol=1e-12)
     # out of reach: the same points with a reach shorter than the distance to the circle
-    _, _, _, near = surf.silhouette_newton(Q, T, 0.01, 1e-10)
+    _, _, _, _, near = surf.silhouette_newton(Q, T, 0.01, 1e-10)
     assert not near.any()
 
 
@@ -50,7 +55,7 @@ def test_an_orthographic_view_too():
     a = np.linspace(0, 2 * math.pi, 12, endpoint=False)
     on = K * np.stack([np.cos(a), np.zeros_like(a), np.sin(a)], axis=1)
     T = np.stack([-np.sin(a), np.zeros_like(a), np.cos(a)], axis=1)
-    X, _, _, ok = surf.silhouette_newton(on + 0.04 * T + [0, 0.05, 0], T, 0.2, 1e-10)
+    X, _, _, _, ok = surf.silhouette_newton(on + 0.04 * T + [0, 0.05, 0], T, 0.2, 1e-10)
     assert ok.all()
     assert np.abs(X[:, 1]).max() < 1e-10                           # the great circle facing y
     np.testing.assert_allclose(np.linalg.norm(X, axis=1), K, atol=1e-12)
