@@ -15,7 +15,8 @@ import numpy as np
 
 from .surface import CREASE, SIL, unit
 
-SMOOTH = 0.5       # a silhouette Newton step whose normals disagree by this much of the crease angle crossed one
+SMOOTH = 0.75       # a silhouette Newton step whose normal at P, predicted back from X through
+                    # the Hessian, is off by this much of the crease angle crossed a crease
 
 
 class Step(NamedTuple):
@@ -128,11 +129,12 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     jumped = ang > 0.5 * crease_angle
     ok &= np.where(kinds == CREASE, jumped, ~jumped)   # a silhouette ends where it meets a crease
     if nP is not None:
-        # nor does a silhouette step over a crease onto another sheet's silhouette (its
-        # bracket then lies wholly on the far sheet): the normal may not turn by the
-        # crease angle in one step
+        # nor does a bracketed silhouette step over a crease onto another sheet's
+        # silhouette (its bracket then lies wholly on the far sheet): the normal may not
+        # turn by the crease angle in one step (a Newton step has the finer Hessian test
+        # above; on a bumpy surface its normal may turn that much along the silhouette)
         turn = np.einsum("ij,ij->i", surface.normals(gX), nP) < np.cos(crease_angle)
-        ok &= ~((kinds == SIL) & turn)
+        ok &= ~((kinds == SIL) & turn & ~np.isfinite(tangent[:, 0]))
     step = X - P
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
