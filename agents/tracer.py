@@ -15,7 +15,7 @@ import numpy as np
 
 from .surface import CREASE, SIL, unit
 
-SMOOTH = 0.75       # a silhouette Newton step whose normal at P, predicted back from X through
+SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
                     # the Hessian, is off by this much of the crease angle crossed a crease
 
 
