@@ -162,6 +162,23 @@ def subtracted_walls(session, model):
     return P[np.abs(fp - s.ev.iso) <= 1e-9 * max(1.0, s.ev.iso)]
 
 
+def queue_starts(session, P, region=None):
+    """Queue explorers, ahead of the others, at the start points P (in the region, if
+    one): one per voxel not explored or queued from a point yet."""
+    s = session
+    if region is not None and len(P):
+        P = P[region.contains(P)]
+    if len(P) == 0:
+        return
+    rows = []
+    for row, p in zip(s.bb.voxel_rows(s.bb.voxel_of(P)), P):
+        row = int(row)
+        if row not in s.explored and row not in s.explore_from:
+            s.explore_from[row] = p
+            rows.append(row)
+    s.explore_queue[:0] = rows[::-1]
+
+
 def start(session, rows):
     """Send one free agent to each voxel row (as many rows as there are free agents are
     taken by the caller): all start positions projected in one batch."""

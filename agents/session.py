@@ -108,9 +108,9 @@ class Session:
         self.rng = np.random.default_rng(self.settings.seed)
         t0 = time.perf_counter()
         self.mesh = polygonise(self.ev, int(self.settings.resolution))
-        missed = np.zeros((0, 3))
+        starts = np.zeros((0, 3))
         if self.settings.explore_detail:
-            self.mesh, missed = explore.missed_sheets(self.ev, self.mesh)
+            self.mesh, starts = explore.missed_sheets(self.ev, self.mesh)
         self.bb, curv = from_mesh(self.mesh, self.ev, lambda P, g: curvature(self.ev, P, g))
         normals = curv["normal"]
         feats = process_edges(self.mesh, normals, curv["mean"], view, self.settings.crease_angle)
@@ -125,7 +125,7 @@ class Session:
         self.step_len = self.settings.step * self.h
         self.tol = self.settings.tolerance * self.ev.scale
         if self.settings.explore_detail:
-            missed = np.concatenate([missed, explore.subtracted_walls(self, self.ev.model)])
+            starts = np.concatenate([starts, explore.subtracted_walls(self, self.ev.model)])
         self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), self.settings.lod)["priority"]
         self.init_seconds = time.perf_counter() - t0
         self.iteration = 0
@@ -140,9 +140,9 @@ class Session:
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once
         # explorers start on the sheets the polygonisation missed (probe points) and on
-        # the walls of subtracted parts
+        # the walls of subtracted parts: voxel row -> start point
         self.explore_from = {}
-        self._missed = missed
+        self._starts = starts
 
     def _queue_detail(self):
         """Once the polygon edges' seeds are traced: explore the voxels the blackboard
@@ -170,12 +170,8 @@ class Session:
             self._queue_exploration(region, all_surface=True)
         elif kind == "OUTLINES" and region is not None:
             self._queue_exploration(region, all_surface=False)
-        if kind in ("OUTLINES", "FIND_FEATURES") and len(self._missed):
-            P = self._missed if region is None else self._missed[region.contains(self._missed)]
-            for row, p in zip(self.bb.voxel_rows(self.bb.voxel_of(P)), P):
-                if int(row) not in self.explored and int(row) not in self.explore_from:
-                    self.explore_from[int(row)] = p
-                    self.explore_queue.insert(0, int(row))
+        if kind in ("OUTLINES", "FIND_FEATURES"):
+            explore.queue_starts(self, self._starts, region)
 
     def _queue_exploration(self, region, all_surface):
         v = self.bb.vox
@@ -306,8 +302,8 @@ class Session:
             t.h = t.h or self.step_len
         h = np.array([t.h for t in trs])
         nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.fwd_n[0] for t in trs])
-        st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP,
-                        retry=h > self.step_len / 16)
+        retry = h > self.step_len / 16         # a failed step may still be halved
+        st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry)
         X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
         side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
         rows = self.bb.add_samples(X, st.f, st.g, "path")
@@ -315,7 +311,7 @@ class Session:
         covered = []                           # trace points appended this iteration
         for i, tr in enumerate(trs):
             end = None
-            if not ok[i] and tr.h > self.step_len / 16:     # (trace_step's retry)
+            if not ok[i] and retry[i]:
                 tr.h *= 0.5                    # retry with a shorter step next iteration
                 still.append(tr)
                 continue

@@ -97,7 +97,8 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     A_out, B_out = np.zeros((m, 3)), np.zeros((m, 3))
     nA_out, nB_out = np.zeros((m, 3)), np.zeros((m, 3))
     found = np.zeros(m, bool)
-    tangent = np.full((m, 3), np.nan)          # the next direction, where Newton gave one
+    newton = np.zeros(m, bool)                  # corrected by Newton (else bracketed)
+    tangent = np.zeros((m, 3))                  # the next direction, where Newton gave one
     sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
     if len(sil):
         Xs, Gs, Hs, Ts, conv = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol)
@@ -110,7 +111,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
         X[got] = A_out[got] = B_out[got] = Xs[conv]
         nA_out[got] = nB_out[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
-        found[got] = True
+        found[got] = newton[got] = True
     todo = ~found
     if len(sil) and retry is not None:
         todo[sil] &= ~retry[sil]
@@ -134,12 +135,12 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
         # turn by the crease angle in one step (a Newton step has the finer Hessian test
         # above; on a bumpy surface its normal may turn that much along the silhouette)
         turn = np.einsum("ij,ij->i", surface.normals(gX), nP) < np.cos(crease_angle)
-        ok &= ~((kinds == SIL) & turn & ~np.isfinite(tangent[:, 0]))
+        ok &= ~((kinds == SIL) & turn & ~newton)
     step = X - P
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
     ok &= (adv > 0.2 * h) & (np.linalg.norm(step, axis=1) < 2.5 * h)
-    Tn = np.where(np.isfinite(tangent[:, :1]), tangent, unit(step))
+    Tn = np.where(newton[:, None], tangent, unit(step))
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok)

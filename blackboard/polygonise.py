@@ -279,18 +279,17 @@ def thin_parts(ev, mesh, max_probes=200000):
             better = inr & np.where(up, p > val, p < val)
             best = np.where(better, r, best)
             val = np.where(better, p, val)
-        cand.append((a, ijk, best))
+        cand.append((a, ijk, best, f0, f1))
     if not cand:
         return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
-    E0 = np.concatenate([lo + ijk * h for _, ijk, _ in cand])
-    step = np.concatenate([np.tile(np.eye(3)[a] * h, (len(ijk), 1)) for a, ijk, _ in cand])
-    t = np.concatenate([t for _, _, t in cand])
+    E0 = np.concatenate([lo + c[1] * h for c in cand])
+    step = np.concatenate([np.tile(np.eye(3)[c[0]] * h, (len(c[1]), 1)) for c in cand])
+    t, fe0, fe1 = (np.concatenate([c[k] for c in cand]) for k in (2, 3, 4))   # ends: the grid's values
     if len(E0) > max_probes:          # the most promising would need a score; keep a spread
         keep = np.linspace(0, len(E0) - 1, max_probes).astype(int)
-        E0, step, t = E0[keep], step[keep], t[keep]
+        E0, step, t, fe0, fe1 = E0[keep], step[keep], t[keep], fe0[keep], fe1[keep]
     Pm = E0 + t[:, None] * step
     fm = ev.field(Pm)
-    fe0, fe1 = ev.field(E0), ev.field(E0 + step)
     flip = (fm >= iso) != (fe0 >= iso)
     if not flip.any():
         return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
