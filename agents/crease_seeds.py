@@ -48,7 +48,7 @@ def seed_sides(session, X, A, B):
 
 
 def silhouettes_off_creases(session, trs, X, A, B, nA, nB, ok):
-    """After a trace step: the seed brackets (a, b) of silhouettes that start on the
+    """After a trace step: the seed brackets (a, b, cell) of silhouettes that start on the
     creases between each crease trace's last and current point; updates the traces'
     side records."""
     if "silhouette" not in session.settings.kinds:
@@ -62,6 +62,7 @@ def silhouettes_off_creases(session, trs, X, A, B, nA, nB, ok):
     for i, rec in zip(rows, now):
         tr = trs[i]
         if tr.sides is not None:
-            seeds += flips(tr.sides, rec, OFFSET * session.step_len)
+            cell = tr.base / session.settings.step          # the trace's scale: its seeds'
+            seeds += [(x, y, cell) for x, y in flips(tr.sides, rec, OFFSET * tr.base)]
         tr.sides = rec
     return seeds

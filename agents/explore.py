@@ -11,6 +11,7 @@ import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from ..blackboard.polygonise import thin_parts
+from ..blackboard.subdivide import fine_features
 from ..model.csg import subtracted_centres
 from ..model.curvature import curvature
 from ..strokes import steering as st
@@ -137,6 +138,7 @@ def missed_sheets(ev, mesh):
 _AXES = np.concatenate([np.eye(3), -np.eye(3)])
 _MARCH = np.linspace(0.0, 2.0, 17)
 MAX_WALL_PROBES = 20000
+MAX_SUBDIVIDED = 4000           # voxels subdivided around subtracted parts, at most
 
 
 def subtracted_walls(session, model):
@@ -144,22 +146,60 @@ def subtracted_walls(session, model):
     explorers start: from the centre of each subtracted primitive (model.csg), the
     first crossing of iso along each axis direction within two voxels (one batch),
     projected onto the surface. A wheel's holes are smaller than a cell of a rough grid;
-    their creases start where these walls meet the faces they are cut from."""
+    their creases start where these walls meet the faces they are cut from. Returns
+    the points and, for each, the centre it was found from."""
     s = session
     C = subtracted_centres(model.root)
     if len(C) > MAX_WALL_PROBES:        # a spread subset: memory stays bounded (102 samples each)
         C = C[np.linspace(0, len(C) - 1, MAX_WALL_PROBES).astype(int)]
+    none = (np.zeros((0, 3)), np.zeros((0, 3)))
     if len(C) == 0:
-        return np.zeros((0, 3))
+        return none
     R = C[:, None, None, :] + _AXES[None, :, None, :] * (_MARCH * s.h)[None, None, :, None]
     f = s.ev.field(R.reshape(-1, 3)).reshape(len(C), len(_AXES), len(_MARCH)) - s.ev.iso
     flip = (f[..., 1:] > 0) != (f[..., :1] > 0)
     ci, di = np.nonzero(flip.any(axis=-1))
     if len(ci) == 0:
-        return np.zeros((0, 3))
+        return none
     j = np.argmax(flip[ci, di], axis=-1)
     P, fp, _ = s.surface.project(R[ci, di, j + 1].copy(), anchor=R[ci, di, j])
-    return P[np.abs(fp - s.ev.iso) <= 1e-9 * max(1.0, s.ev.iso)]
+    on = np.abs(fp - s.ev.iso) <= 1e-9 * max(1.0, s.ev.iso)
+    return P[on], C[ci[on]]
+
+
+_BLOCK = np.array([(x, y, z) for x in range(-2, 3) for y in range(-2, 3) for z in range(-2, 3)], np.int64)   # 1.1 voxel
+
+
+def subdivide(session, P, C):
+    """Voxel subdivision (blackboard.subdivide) around the subtracted parts smaller than
+    a cell (their walls P within a voxel of their centre C; the rough grid resolves
+    larger ones, whose outlines traced at two scales would be drawn twice): each such
+    part's voxels (those a cube around its centre as wide as its walls are far from it
+    meets) are resampled on fine cells, and the feature points found there join the
+    blackboard with the fine cells' size, so their agents trace at that scale. Returns
+    how many were added."""
+    s = session
+    k = s.settings.subdivide
+    kinds = [kind for kind in ("silhouette", "crease") if kind in s.settings.kinds]
+    if len(P) == 0 or not k or not kinds:
+        return 0
+    centres, inv = np.unique(C, axis=0, return_inverse=True)
+    reach = np.zeros(len(centres))
+    np.maximum.at(reach, inv.reshape(-1), np.linalg.norm(P - C, axis=1))
+    small = reach <= s.h
+    centres, reach = centres[small], 1.1 * reach[small]
+    lo, hi = s.bb.voxel_of(centres - reach[:, None]), s.bb.voxel_of(centres + reach[:, None])
+    mid = s.bb.voxel_of(centres)
+    cand = mid[:, None, :] + _BLOCK[None]                                   # (m, 125, 3)
+    inside = np.all((cand >= lo[:, None]) & (cand <= hi[:, None]), axis=2)
+    ijk = np.unique(cand[inside], axis=0)
+    if len(ijk) > MAX_SUBDIVIDED:       # a spread subset: the fine sampling's cost stays bounded
+        ijk = ijk[np.linspace(0, len(ijk) - 1, MAX_SUBDIVIDED).astype(int)]
+    added = 0
+    for kind, (pos, a, b) in fine_features(s.ev, s.bb.lo, s.h, ijk, k, s.view, s.settings.crease_angle,
+                                           kinds).items():
+        added += len(s.bb.add_features(pos, a, b, kind, s.h / k))
+    return added
 
 
 def queue_starts(session, P, region=None):

@@ -45,6 +45,7 @@ class Settings:
     kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines
     explore_steps: int = 16
     explore_detail: bool = True        # after the edge seeds, explore voxels flagged for detail
+    subdivide: int = 6                 # fine cells per side of the subdivided voxels (0: none)
     max_outline_steps: int = 20000
     seed: int = 0
 
@@ -58,6 +59,8 @@ class Settings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and lo <= v <= hi):
                 raise ValueError(f"{name} must be a number from {lo} to {hi}, got {v!r}")
+        if not (isinstance(self.subdivide, (int, np.integer)) and (self.subdivide == 0 or 2 <= self.subdivide <= 16)):
+            raise ValueError(f"subdivide must be 0 or a whole number from 2 to 16, got {self.subdivide!r}")
         bad = [k for k in self.kinds if k not in FEATURE_KINDS]
         if bad or not self.kinds:
             raise ValueError(f"kinds must be some of {', '.join(FEATURE_KINDS)}, got {self.kinds!r}")
@@ -69,6 +72,7 @@ class Outline:
     points: np.ndarray
     normals: np.ndarray
     closed: bool
+    step: float = 0.0           # the trace step it was traced with (0: not known)
 
     @property
     def length(self):
@@ -93,6 +97,7 @@ class _Trace:
     phase: str = "fwd"
     closed: bool = False
     h: float = 0.0              # current step: halved after a failed step, regrown after success
+    base: float = 0.0           # its full step: the session's, or a subdivided voxel's seed's
     id: int = -1
     sides: tuple = None         # a crease's last point, side directions and side facings
     start_sides: tuple = None   # the same at its seed
@@ -125,7 +130,9 @@ class Session:
         self.step_len = self.settings.step * self.h
         self.tol = self.settings.tolerance * self.ev.scale
         if self.settings.explore_detail:
-            starts = np.concatenate([starts, explore.subtracted_walls(self, self.ev.model)])
+            walls, centres = explore.subtracted_walls(self, self.ev.model)
+            starts = np.concatenate([starts, walls])
+            explore.subdivide(self, walls, centres)
         self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), self.settings.lod)["priority"]
         self.init_seconds = time.perf_counter() - t0
         self.iteration = 0
@@ -276,18 +283,20 @@ class Session:
         cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
         if len(cre) and "silhouette" in self.settings.kinds:
             sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
+        base = self.settings.step * f["cell"][ids]          # the seed's scale sets its trace's step
         for i in np.flatnonzero(valid):
             k = int(kinds[i])
-            if self.traced.near(k, X[i], 1.0 * self.step_len, None, n=n[i]) is not None:
+            if self.traced.near(k, X[i], base[i], None, n=n[i]) is not None:
                 continue
             need = 2 if k == KIND_ID["crease"] else 1
             agents = tuple(self.free.pop() for _ in range(need))
             tr = _Trace(kind=k, agents=agents, p=X[i], t=T[i], ref=ref[i], start=X[i], start_t=T[i],
-                        start_ref=ref[i], id=len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration)
+                        start_ref=ref[i], id=len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration,
+                        h=float(base[i]), base=float(base[i]))
             tr.sides = tr.start_sides = sides.get(i)
             tr.fwd.append(X[i])
             tr.fwd_n.append(n[i])
-            self.traced.remember(k, X[i], tr.id, 0, n[i])
+            self.traced.remember(k, X[i], tr.id, 0, n[i], tr.base)
             self.traces.append(tr)
 
     def _step_traces(self):
@@ -298,11 +307,10 @@ class Session:
         P = np.array([t.p for t in trs])
         T = np.array([t.t for t in trs])
         ref = np.array([t.ref for t in trs])
-        for t in trs:
-            t.h = t.h or self.step_len
         h = np.array([t.h for t in trs])
+        base = np.array([t.base for t in trs])
         nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.fwd_n[0] for t in trs])
-        retry = h > self.step_len / 16         # a failed step may still be halved
+        retry = h > base / 16                  # a failed step may still be halved
         st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry)
         X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
         side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
@@ -322,9 +330,9 @@ class Session:
                 other_end = tr.start if tr.phase == "fwd" or not tr.fwd else tr.fwd[-1]
                 steps = len(tr.fwd) + len(tr.bwd)
                 arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
-                if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * self.step_len:
+                if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * tr.base:
                     end = "closed"
-                elif (hit := self.traced.near(tr.kind, X[i], 1.0 * self.step_len, tr.id, arc, n[i])) is not None:
+                elif (hit := self.traced.near(tr.kind, X[i], tr.base, tr.id, arc, n[i])) is not None:
                     # an outline is here: stop short; come round onto its own seed, it closed
                     end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
                 elif steps >= self.settings.max_outline_steps:
@@ -332,9 +340,9 @@ class Session:
                 else:
                     mine.append(X[i])
                     (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
-                    self.traced.remember(tr.kind, X[i], tr.id, arc, n[i])
+                    self.traced.remember(tr.kind, X[i], tr.id, arc, n[i], tr.base)
                     tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
-                    tr.h = min(self.step_len, 1.5 * tr.h)
+                    tr.h = min(tr.base, 1.5 * tr.h)
                     covered.append(i)
             if end is None:
                 still.append(tr)
@@ -344,30 +352,35 @@ class Session:
             elif end == "closed":
                 tr.closed = True
                 self._finish(tr)
-            elif tr.phase == "fwd" and self.traced.near(tr.kind, tr.start, 1.0 * self.step_len, tr.id,
+            elif tr.phase == "fwd" and self.traced.near(tr.kind, tr.start, tr.base, tr.id,
                                                          n=tr.fwd_n[0]) is None:
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
-                tr.h = self.step_len
+                tr.h = tr.base
                 tr.sides = tr.start_sides
                 still.append(tr)
             else:
                 self._finish(tr)
         self.traces = still
-        self._consume_covered(kinds[covered], X[covered], n[covered])
+        self._consume_covered(kinds[covered], X[covered], n[covered], base[covered])
         if side_seeds:
-            a, b = np.array([x for x, _ in side_seeds]), np.array([y for _, y in side_seeds])
-            self.bb.add_features(0.5 * (a + b), a, b, "silhouette")
+            a, b, cell = (np.array([x[i] for x in side_seeds]) for i in range(3))
+            self.bb.add_features(0.5 * (a + b), a, b, "silhouette", cell)
         return [rows]
 
-    def _consume_covered(self, kinds, X, n):
-        """Open seeds within 0.75 voxel of this iteration's new trace points are taken as
-        traced, unless (silhouettes, curvature-sign lines) their normal shows them on
-        another sheet: the inner and outer silhouettes of a thin lip lie that close."""
+    def _consume_covered(self, kinds, X, n, steps):
+        """Open seeds within 0.75 of their cell (a voxel, or a subdivided voxel's fine
+        cell), or of the covering trace's step if longer, of this iteration's new trace
+        points (traced with ``steps``) are taken as traced, unless
+        (silhouettes, curvature-sign lines) their normal shows them on another sheet: the
+        inner and outer silhouettes of a thin lip lie that close."""
         cos = np.cos(0.5 * self.settings.crease_angle)
         for k in np.unique(kinds):
             m = kinds == k
             ids, j = self.bb.open_near(X[m], FEATURE_KINDS[k], 0.75 * self.h)
+            reach = 0.75 * np.maximum(self.bb.feat["cell"][ids], steps[m][j])
+            near = np.linalg.norm(self.bb.feat["pos"][ids] - X[m][j], axis=1) < reach
+            ids, j = ids[near], j[near]
             if len(ids) and k != KIND_ID["crease"]:
                 _, g = self.ev.field_grad(self.bb.feat["a"][ids])
                 ids = ids[np.einsum("ij,ij->i", self.surface.normals(g), n[m][j]) > cos]
@@ -378,7 +391,8 @@ class Session:
         nrm = tr.bwd_n[::-1] + tr.fwd_n
         self.free.extend(tr.agents)
         if pts:                    # even a single point: other traces stopped short of it
-            self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed))
+            self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed,
+                                              tr.base))
 
     # --- results ----------------------------------------------------------------------
     def outlines(self, include_active=True):
@@ -389,8 +403,14 @@ class Session:
                 pts = tr.bwd[::-1] + tr.fwd
                 if pts:
                     out.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts),
-                                       np.array(tr.bwd_n[::-1] + tr.fwd_n), False))
-        return stitch(out, 2.5 * self.step_len, Outline)
+                                       np.array(tr.bwd_n[::-1] + tr.fwd_n), False, tr.base))
+        # fragments are joined with those traced at their own scale: a subdivided voxel's
+        # small outlines (a wheel's holes) lie closer together than the session's step
+        stitched = []
+        for step in sorted({o.step for o in out}):
+            stitched += stitch([o for o in out if o.step == step], 2.5 * step,
+                               lambda *a, step=step: Outline(*a, step=step))
+        return stitched
 
     def progress(self):
         return {"iterations": self.iteration, "tasks_left": self.tasks_left,

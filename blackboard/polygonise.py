@@ -101,7 +101,7 @@ def polygonise(ev, res, bounds=None, project_steps=6):
     return mesh_from_grid(ev, grid, project_steps)
 
 
-def _refine_crossings(ev, A, B, fA, fB, iters=12):
+def refine_crossings(ev, A, B, fA, fB, iters=12):
     """Points where f = iso on the segments A-B (fA, fB on opposite sides of iso), by
     regula falsi with the Illinois rule, batched (field values only). A compact kernel
     is far from linear across a cell: linear interpolation alone can put a crossing
@@ -132,7 +132,7 @@ def _refine_crossings(ev, A, B, fA, fB, iters=12):
     return A + t[:, None] * (B - A)
 
 
-def _edge_ends(a):
+def edge_ends(a):
     """Index tuples of the lower and upper corners of every grid edge along axis a."""
     sl0, sl1 = [slice(None)] * 3, [slice(None)] * 3
     sl0[a], sl1[a] = slice(0, -1), slice(1, None)
@@ -149,7 +149,7 @@ def mesh_from_grid(ev, grid, project_steps=6):
     edge_lists = []
     crossings = []
     for a in range(3):
-        sl0, sl1 = _edge_ends(a)
+        sl0, sl1 = edge_ends(a)
         f0, f1 = f[sl0], f[sl1]
         change = inside[sl0] != inside[sl1]
         ijk = np.argwhere(change)                      # lower corner of each crossing edge
@@ -160,7 +160,7 @@ def mesh_from_grid(ev, grid, project_steps=6):
     step = np.concatenate([np.tile(np.eye(3)[a] * h, (len(ijk), 1)) for a, ijk, _, _ in crossings])
     fa = np.concatenate([c[2] for c in crossings])
     fb = np.concatenate([c[3] for c in crossings])
-    refined = _refine_crossings(ev, A, A + step, fa, fb) if project_steps else None
+    refined = refine_crossings(ev, A, A + step, fa, fb) if project_steps else None
     start = 0
     for a, ijk, f0c, f1c in crossings:
         if refined is not None:
@@ -248,7 +248,7 @@ def thin_parts(ev, mesh, max_probes=200000):
     G[tuple(nidx.T)] = g
     cand = []
     for a in range(3):
-        sl0, sl1 = _edge_ends(a)
+        sl0, sl1 = edge_ends(a)
         same = (inside[sl0] == inside[sl1]) & (need[sl0] | need[sl1])
         ijk = np.argwhere(same)
         if len(ijk) == 0:
@@ -294,7 +294,7 @@ def thin_parts(ev, mesh, max_probes=200000):
     if not flip.any():
         return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
     E0, E1, Pm, fm, fe0, fe1 = E0[flip], (E0 + step)[flip], Pm[flip], fm[flip], fe0[flip], fe1[flip]
-    X = np.concatenate([_refine_crossings(ev, E0, Pm, fe0, fm), _refine_crossings(ev, Pm, E1, fm, fe1)])
+    X = np.concatenate([refine_crossings(ev, E0, Pm, fe0, fm), refine_crossings(ev, Pm, E1, fm, fe1)])
     X = project(ev, X, steps=6, max_step=h.max())
     fx, gx = ev.field_grad(X)
     ok = (np.abs(fx - iso) <= 1e-9 * max(1.0, abs(iso))) & (np.einsum("ij,ij->i", gx, gx) > 0)

@@ -42,8 +42,9 @@ def dimple_model():
 
 def test_walls_of_a_subtracted_part_are_on_the_surface_around_it():
     s = Session(dimple_model(), View(eye=(0.0, -6.0, 2.0)), Settings(resolution=8))
-    W = explore.subtracted_walls(s, s.ev.model)
+    W, C = explore.subtracted_walls(s, s.ev.model)
     assert len(W) >= 1
+    np.testing.assert_allclose(C, np.tile(DIMPLE, (len(W), 1)), atol=1e-12)     # each wall's part
     np.testing.assert_allclose(s.ev.field(W), s.ev.iso, atol=1e-9)
     assert np.all(np.linalg.norm(W - DIMPLE, axis=1) < 2 * s.h)
 
@@ -83,7 +84,7 @@ def test_wall_probes_are_bounded_for_models_with_very_many_subtracted_parts(monk
     model = model_of({"type": "difference", "children": [
         {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.6}] + holes})
     s = Session(model, View(eye=(0.0, -6.0, 2.0)), Settings(resolution=8))
-    full = explore.subtracted_walls(s, s.ev.model)
+    full, _ = explore.subtracted_walls(s, s.ev.model)
     monkeypatch.setattr(explore, "MAX_WALL_PROBES", 3)
-    few = explore.subtracted_walls(s, s.ev.model)
+    few, _ = explore.subtracted_walls(s, s.ev.model)
     assert 0 < len(few) <= 3 * 6 < len(full)

@@ -47,6 +47,22 @@ def test_new_trace_points_cover_open_seeds_of_their_own_sheet_only(load_example)
     crease = s.bb.add_features(q, np.array([-r, 0.0, 0.0]), q, "crease")
     far = s.bb.add_features(p + [0.0, 0.0, 2 * s.h], p, p, "silhouette")
     s._consume_covered(np.array([KIND_ID["silhouette"], KIND_ID["crease"]]), np.array([p, p]),
-                       np.array([[1.0, 0, 0], [1.0, 0, 0]]))
+                       np.array([[1.0, 0, 0], [1.0, 0, 0]]), np.full(2, s.step_len))
     f = s.bb.feat["used"]
     assert f[same[0]] and not f[other[0]] and f[crease[0]] and not f[far[0]]
+
+
+def test_points_of_a_longer_stepped_outline_count_within_its_step(load_example):
+    """A subdivided voxel's trace (short steps) running along an outline traced with the
+    session's step meets it: that outline's points are up to half its step from the
+    line, further than the short step."""
+    s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
+    p = np.array([1.0, 0.0, 0.0])
+    s.traced.remember(0, p, 7, 3, np.array([1.0, 0, 0]))                 # the session's step
+    s.traced.remember(0, p + [0, 0, 0.2], 9, 3, np.array([1.0, 0, 0]), 0.1 * s.step_len)
+    fine = 0.1 * s.step_len
+    assert s.traced.near(0, p + [0, 0.5 * s.step_len, 0], fine, 8) == (7, 3)
+    assert s.traced.near(0, p + [0, 0.7 * s.step_len, 0], fine, 8) is None
+    # a short-stepped outline's points count only within the query's radius
+    assert s.traced.near(0, p + [0, 0, 0.2 + 0.5 * fine], fine, 8) == (9, 3)
+    assert s.traced.near(0, p + [0, 0, 0.2 + 2 * fine], fine, 8) is None

@@ -1,0 +1,94 @@
+"""Voxel subdivision (blackboard.subdivide): a wheel's holes, smaller than a cell of the
+rough grid, get feature points (their crease circles, their walls' silhouettes) from the
+fine cells of the voxels around them, and are traced at that scale; outlines traced at
+different scales are stitched apart."""
+import numpy as np
+
+from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents.session import Outline
+from blobtree_ink.blackboard.subdivide import fine_features
+from blobtree_ink.blackboard.view import View
+
+from test_massris import K, model_of
+
+HOLES = np.array([[0.55, 0.0, 0.0], [-0.55, 0.0, 0.0]])
+HALF = 0.12 * K                      # the disc's half thickness (the faces at y = +-HALF)
+HOLE_R = 0.147 * K                   # the holes' balls
+RING = np.sqrt(HOLE_R ** 2 - HALF ** 2)   # the crease circles' radius, on each face
+VIEW = View(eye=(1.5, -5.0, 2.5))
+
+
+def wheel():
+    return model_of({"type": "difference", "children": [
+        {"type": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "disc_radius": 1.0, "radius": 0.12},
+        *({"type": "point", "center": c.tolist(), "radius": 0.147} for c in HOLES)]})
+
+
+def near_holes(outlines, kind):
+    """Points of the outlines of a kind within twice a ring's radius of a hole centre, by hole."""
+    P = np.concatenate([o.points for o in outlines if o.kind == kind] or [np.zeros((0, 3))])
+    return [P[np.linalg.norm(P - c, axis=1) < 2 * RING] for c in HOLES]
+
+
+def test_fine_cells_find_the_creases_of_a_hole_smaller_than_a_cell():
+    s = Session(wheel(), VIEW, Settings(resolution=8, subdivide=0))
+    assert 2 * RING < s.h                                   # the hole is inside one cell
+    box = np.array([(x, y, z) for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1)]) * HOLE_R
+    ijk = np.unique(s.bb.voxel_of((HOLES[:, None] + box[None]).reshape(-1, 3)), axis=0)   # the voxels the holes touch
+    found = fine_features(s.ev, s.bb.lo, s.h, ijk, 6, VIEW, s.settings.crease_angle)
+    pos, a, b = found["crease"]
+    assert len(pos) >= 4
+    # every bracket: both ends on the surface, one on a face and one on the hole's wall
+    np.testing.assert_allclose(s.ev.field(np.concatenate([a, b])), s.ev.iso, atol=1e-7)
+    near = np.linalg.norm(pos[:, None] - HOLES[None], axis=2).min(axis=1) < 2 * RING
+    assert near.all()
+    assert np.all(np.linalg.norm(a - b, axis=1) < np.sqrt(3) * s.h / 6 + 1e-12)     # within a fine cell
+    # both faces of both holes
+    for c in HOLES:
+        mine = pos[np.linalg.norm(pos - c, axis=1) < 2 * RING]
+        assert (mine[:, 1] > 0).any() and (mine[:, 1] < 0).any()
+
+
+def test_a_session_traces_the_walls_of_sub_cell_holes_at_the_fine_scale():
+    """The holes' walls (the subtracted balls between the disc's faces) show a
+    silhouette from this view; seeded in the fine cells, they are traced with the fine
+    cells' step: exact silhouette points on each ball, between the faces."""
+    plain = Session(wheel(), VIEW, Settings(resolution=8, subdivide=0))
+    plain.request("OUTLINES")
+    plain.run()
+    assert plain.done
+    # without subdivision explorers on the walls find a few coarse pieces at most
+    assert max(len(p) for p in near_holes(plain.outlines(), "silhouette")) < 20
+    s = Session(wheel(), VIEW, Settings(resolution=8))
+    s.request("OUTLINES")
+    s.run()
+    assert s.done
+    for c, P in zip(HOLES, near_holes(s.outlines(), "silhouette")):
+        assert len(P) >= 20
+        f, g = s.ev.field_grad(P)
+        np.testing.assert_allclose(f, s.ev.iso, atol=1e-9)
+        n = -g / np.linalg.norm(g, axis=1, keepdims=True)
+        np.testing.assert_allclose(np.einsum("ij,ij->i", n, VIEW.towards_eye(P)), 0.0, atol=1e-6)
+        np.testing.assert_allclose(np.linalg.norm(P - c, axis=1), HOLE_R, atol=1e-6)      # on the hole's ball
+        assert np.all(np.abs(P[:, 1]) <= HALF + 1e-6)                                    # between the faces
+    for c in HOLES:                                            # traced at the fine cells' scale
+        fine = [o for o in s.outlines() if o.step < s.step_len and np.linalg.norm(o.points - c, axis=1).max() < 2 * RING]
+        assert sum(len(o.points) for o in fine) >= 20
+    fine = [o for o in s.outlines() if o.step < s.step_len]
+    steps = np.concatenate([np.linalg.norm(np.diff(o.points, axis=0), axis=1) for o in fine])
+    assert steps.max() < 0.1 * 2 * np.pi * HOLE_R              # dense enough to draw a small curve
+
+
+def test_outlines_of_different_scales_are_stitched_apart():
+    """Two small rings a coarse step apart: stitched at the coarse scale they would be
+    pooled into one polyline; each stays its own closed loop."""
+    s = Session(wheel(), VIEW, Settings(resolution=8))
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    ring = np.stack([0.02 * np.cos(t), np.zeros_like(t), 0.02 * np.sin(t)], axis=1)
+    small = 0.3 * 0.02 * 2 * np.pi / 40 / 0.3                  # the rings' point spacing as their step
+    s.done_outlines = [Outline("crease", ring + [0.0, 0.0, 0.0], np.ones_like(ring), True, small),
+                       Outline("crease", ring + [0.0, 0.05, 0.0], np.ones_like(ring), True, small)]
+    out = s.outlines()
+    assert 0.05 < 2.5 * s.step_len                              # close enough to pool at the coarse scale
+    assert len(out) == 2 and all(o.closed and len(o.points) == 40 for o in out)
+    assert {round(float(o.points[:, 1].mean()), 9) for o in out} == {0.0, 0.05}
