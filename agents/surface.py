@@ -16,6 +16,7 @@ CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bra
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 NEWTON_ITERS = 6             # Newton iterations of a silhouette corrector before it gives up
+WEDGE = 3.0                  # a crease estimate may lie this many bracket widths from its midpoint
 
 
 def unit(v):
@@ -322,5 +323,5 @@ def _crease_estimate(A, B, nA, nB, mid):
     al = (ra - c * rb) / d
     be = (rb - c * ra) / d
     X = mid + al[:, None] * nA + be[:, None] * nB
-    far = np.linalg.norm(X - mid, axis=1) > np.linalg.norm(B - A, axis=1)
+    far = np.linalg.norm(X - mid, axis=1) > WEDGE * np.linalg.norm(B - A, axis=1)
     return np.where((ok & ~far)[:, None], X, mid)

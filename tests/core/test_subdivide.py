@@ -92,3 +92,23 @@ def test_outlines_of_different_scales_are_stitched_apart():
     assert 0.05 < 2.5 * s.step_len                              # close enough to pool at the coarse scale
     assert len(out) == 2 and all(o.closed and len(o.points) == 40 for o in out)
     assert {round(float(o.points[:, 1].mean()), 9) for o in out} == {0.0, 0.05}
+
+
+def test_the_crease_circles_of_sub_cell_holes_are_traced_on_the_analytic_circles():
+    """A hole's rim is a sharp wedge (the face and the hole's ball meet at about 38
+    degrees): where the two tangent planes meet lies beyond the bracket's ends, and the
+    crease estimate there is what makes its brackets converge (the midpoint alone let
+    all of them stall). The rims facing the eye are traced all round."""
+    s = Session(wheel(), VIEW, Settings(resolution=8))
+    s.request("OUTLINES")
+    s.run()
+    assert s.done
+    for c, P in zip(HOLES, near_holes(s.outlines(), "crease")):
+        assert len(P) >= 20
+        np.testing.assert_allclose(s.ev.field(P), s.ev.iso, atol=1e-9)
+        np.testing.assert_allclose(np.abs(P[:, 1]), HALF, atol=1e-6)                   # on a face
+        np.testing.assert_allclose(np.linalg.norm(P - c, axis=1), HOLE_R, atol=1e-6)    # and on the ball
+        front = P[P[:, 1] < 0]                                                         # the face towards the eye
+        ang = np.arctan2(front[:, 2] - c[2], front[:, 0] - c[0])
+        hist, _ = np.histogram(ang, bins=8, range=(-np.pi, np.pi))
+        assert np.all(hist > 0), hist
