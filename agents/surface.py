@@ -313,7 +313,8 @@ def _crease_estimate(A, B, nA, nB, mid):
     """The point of the line where the ends' tangent planes meet that is nearest to the
     bracket's midpoint (on curved sheets it is off the crease by the square of the
     bracket's width); the midpoint where the planes are near parallel or the point is
-    further from the midpoint than the bracket is wide."""
+    further from the midpoint than WEDGE bracket widths (across a sharp wedge, a hole's
+    rim, the planes meet beyond both ends)."""
     c = np.einsum("ij,ij->i", nA, nB)
     det = 1.0 - c * c
     ra = np.einsum("ij,ij->i", nA, A - mid)
