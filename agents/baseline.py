@@ -13,7 +13,7 @@ import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from ..model import Evaluator
-from .session import Outline
+from .outline import Outline
 from .stitch import stitch
 from .surface import Surface
 from .tracer import refine_seeds, trace_step

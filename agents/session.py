@@ -26,7 +26,7 @@ from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature
 from . import crease_seeds, explore, manager
-from .stitch import stitch
+from .outline import Outline, stitch_scales
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
 from .traced import SELF_GAP, TracedPoints
@@ -64,20 +64,6 @@ class Settings:
         bad = [k for k in self.kinds if k not in FEATURE_KINDS]
         if bad or not self.kinds:
             raise ValueError(f"kinds must be some of {', '.join(FEATURE_KINDS)}, got {self.kinds!r}")
-
-
-@dataclass
-class Outline:
-    kind: str
-    points: np.ndarray
-    normals: np.ndarray
-    closed: bool
-    step: float = 0.0           # the trace step it was traced with (0: not known)
-
-    @property
-    def length(self):
-        p = np.vstack([self.points, self.points[:1]]) if self.closed else self.points
-        return float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
 
 
 @dataclass
@@ -404,13 +390,7 @@ class Session:
                 if pts:
                     out.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts),
                                        np.array(tr.bwd_n[::-1] + tr.fwd_n), False, tr.base))
-        # fragments are joined with those traced at their own scale: a subdivided voxel's
-        # small outlines (a wheel's holes) lie closer together than the session's step
-        stitched = []
-        for step in sorted({o.step for o in out}):
-            stitched += stitch([o for o in out if o.step == step], 2.5 * step,
-                               lambda *a, step=step: Outline(*a, step=step))
-        return stitched
+        return stitch_scales(out)
 
     def progress(self):
         return {"iterations": self.iteration, "tasks_left": self.tasks_left,

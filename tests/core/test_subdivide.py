@@ -5,7 +5,7 @@ different scales are stitched apart."""
 import numpy as np
 
 from blobtree_ink.agents import Session, Settings
-from blobtree_ink.agents.session import Outline
+from blobtree_ink.agents.outline import Outline
 from blobtree_ink.blackboard.subdivide import fine_features
 from blobtree_ink.blackboard.view import View
 
@@ -22,6 +22,14 @@ def wheel():
     return model_of({"type": "difference", "children": [
         {"type": "disc", "center": [0, 0, 0], "normal": [0, 1, 0], "disc_radius": 1.0, "radius": 0.12},
         *({"type": "point", "center": c.tolist(), "radius": 0.147} for c in HOLES)]})
+
+
+def traced_wheel(**kw):
+    s = Session(wheel(), VIEW, Settings(resolution=8, **kw))
+    s.request("OUTLINES")
+    s.run()
+    assert s.done
+    return s
 
 
 def near_holes(outlines, kind):
@@ -53,16 +61,10 @@ def test_a_session_traces_the_walls_of_sub_cell_holes_at_the_fine_scale():
     """The holes' walls (the subtracted balls between the disc's faces) show a
     silhouette from this view; seeded in the fine cells, they are traced with the fine
     cells' step: exact silhouette points on each ball, between the faces."""
-    plain = Session(wheel(), VIEW, Settings(resolution=8, subdivide=0))
-    plain.request("OUTLINES")
-    plain.run()
-    assert plain.done
+    plain = traced_wheel(subdivide=0)
     # without subdivision explorers on the walls find a few coarse pieces at most
     assert max(len(p) for p in near_holes(plain.outlines(), "silhouette")) < 20
-    s = Session(wheel(), VIEW, Settings(resolution=8))
-    s.request("OUTLINES")
-    s.run()
-    assert s.done
+    s = traced_wheel()
     for c, P in zip(HOLES, near_holes(s.outlines(), "silhouette")):
         assert len(P) >= 20
         f, g = s.ev.field_grad(P)
@@ -99,10 +101,7 @@ def test_the_crease_circles_of_sub_cell_holes_are_traced_on_the_analytic_circles
     degrees): where the two tangent planes meet lies beyond the bracket's ends, and the
     crease estimate there is what makes its brackets converge (the midpoint alone let
     all of them stall). The rims facing the eye are traced all round."""
-    s = Session(wheel(), VIEW, Settings(resolution=8))
-    s.request("OUTLINES")
-    s.run()
-    assert s.done
+    s = traced_wheel()
     for c, P in zip(HOLES, near_holes(s.outlines(), "crease")):
         assert len(P) >= 20
         np.testing.assert_allclose(s.ev.field(P), s.ev.iso, atol=1e-9)
