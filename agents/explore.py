@@ -167,7 +167,8 @@ def subtracted_walls(session, model):
     return P[on], C[ci[on]]
 
 
-_BLOCK = np.array([(x, y, z) for x in range(-2, 3) for y in range(-2, 3) for z in range(-2, 3)], np.int64)   # 1.1 voxel
+# voxels around a part's own: a cube of half-width 1.1 voxel (the largest reach) meets at most these
+_BLOCK = np.array([(x, y, z) for x in range(-2, 3) for y in range(-2, 3) for z in range(-2, 3)], np.int64)
 
 
 def subdivide(session, P, C):

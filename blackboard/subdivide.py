@@ -10,8 +10,8 @@ fine cell are the cell's samples of the surface; of the pairs of them that cross
 feature outline (n.v changes sign: a silhouette; normals apart by more than the crease
 angle: a crease), the closest pair becomes an approximate feature point with that pair
 as its bracket, as a polygon edge's crossing does (section 4). Features smaller than a
-rough cell (a wheel's holes, a tight suture) are found this way at the fine cells'
-scale: the feature points remember that scale (their agents trace with steps of it).
+rough cell (a wheel's holes) are found this way at the fine cells' scale: the feature
+points remember that scale (their agents trace with steps of it).
 """
 import numpy as np
 
@@ -33,15 +33,20 @@ def fine_grid_points(lo, h, ijk, k):
 def fine_features(ev, lo, h, ijk, k, view, crease_angle, kinds=("silhouette", "crease")):
     """{kind: (points, a, b)} approximate feature points found in the voxels ``ijk``
     ((m, 3) integer triples of a grid of cell h with its corner (0, 0, 0) at lo),
-    each voxel subdivided into k^3 cells: at most one per fine cell and kind."""
+    each voxel subdivided into k^3 cells: at most one per kind in each block of 2^3
+    fine cells."""
     ijk = np.asarray(ijk, np.int64).reshape(-1, 3)
-    out = {kind: (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))) for kind in kinds}
+    out = _none(kinds)
     per = (k + 1) ** 3
     step = max(1, MAX_CORNERS // per)
     for s in range(0, len(ijk), step):
         part = _fine_block(ev, lo, h, ijk[s:s + step], k, view, crease_angle, kinds)
         out = {kind: tuple(np.concatenate([x, y]) for x, y in zip(out[kind], part[kind])) for kind in kinds}
     return out
+
+
+def _none(kinds):
+    return {kind: (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))) for kind in kinds}
 
 
 def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
@@ -58,7 +63,7 @@ def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
         starts.append((a, np.argwhere(change)))             # (voxel, i, j, l) of the lower corner
         ends.append((P[s0][change], P[s1][change], F[s0][change], F[s1][change]))
     A, B, fA, fB = (np.concatenate([e[i] for e in ends]) for i in range(4))
-    empty = {kind: (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))) for kind in kinds}
+    empty = _none(kinds)
     if len(A) == 0:
         return empty
     X = refine_crossings(ev, A, B, fA, fB)
