@@ -60,8 +60,37 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     ref = na - nb
     eps = 0.25 * float(np.linalg.norm(b - a, axis=1).mean()) if len(a) else 1.0
     s = surface.signs(np.concatenate([kinds, kinds]), P, g, np.concatenate([ref, ref]))
-    X, gX, A, B, nA, nB, valid = surface.bisect(kinds, None, None, ref, tol, crease_angle=crease_angle,
-                                                ends=(a, ga, s[:m], b, gb, s[m:]))
+    sA, sB = s[:m], s[m:]
+    # silhouettes by Newton's method (quadratic; regula falsi on n.v crawls where it
+    # bends), in the plane through the bracket's interpolated crossing across the
+    # outline; the others, and those Newton does not settle, by bisection
+    X, gX = np.zeros((m, 3)), np.zeros((m, 3))
+    A, B, nA, nB = np.zeros((m, 3)), np.zeros((m, 3)), np.zeros((m, 3)), np.zeros((m, 3))
+    valid = np.zeros(m, bool)
+    tangent = np.zeros((m, 3))
+    by_newton = np.zeros(m, bool)
+    sil = np.flatnonzero((kinds == SIL) & ((sA > 0) != (sB > 0)))
+    if len(sil):
+        d = b[sil] - a[sil]
+        u = np.clip(sA[sil] / (sA[sil] - sB[sil]), 0.0, 1.0)[:, None]
+        Q = a[sil] + u * d
+        T = unit(np.cross(unit((1.0 - u) * na[sil] + u * nb[sil]), d))
+        # a converged point is on the surface with n.v = 0 where the field is smooth: a
+        # silhouette point, within the bracket's length of it (across a crease, where n.v
+        # jumps through zero, Newton finds none and the bisection rejects the bracket)
+        Xs, Gs, _, Ts, conv = surface.silhouette_newton(Q, T, np.linalg.norm(d, axis=1), tol)
+        got = sil[conv]
+        X[got] = A[got] = B[got] = Xs[conv]
+        gX[got] = Gs[conv]
+        nA[got] = nB[got] = surface.normals(Gs[conv])
+        tangent[got] = Ts[conv]
+        valid[got] = by_newton[got] = True
+    rest = np.flatnonzero(~by_newton)
+    if len(rest):
+        out = surface.bisect(kinds[rest], None, None, ref[rest], tol, crease_angle=crease_angle,
+                             ends=(a[rest], ga[rest], sA[rest], b[rest], gb[rest], sB[rest]))
+        for arr, val in zip((X, gX, A, B, nA, nB, valid), out):
+            arr[rest] = val
     cre = np.flatnonzero((kinds == CREASE) & valid)
     if len(cre):
         # creases: bisect once more from the narrowed bracket with its own side normals
@@ -75,7 +104,9 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     # not be one (n.v and curvature jump across a crease too, and creases draw those)
     valid &= np.where(cre, ang > 0.5 * crease_angle, ang < 0.5 * crease_angle)
     n = surface.normals(gX)
-    tangent = level_tangent(surface, kinds, X, n, nA - nB, eps)
+    lev = np.flatnonzero(~cre & ~by_newton)
+    if len(lev):
+        tangent[lev] = level_tangent(surface, kinds[lev], X[lev], n[lev], (nA - nB)[lev], eps)
     tangent = np.where(cre[:, None], unit(np.cross(nA, nB)), tangent)
     bad = ~np.all(np.isfinite(tangent), axis=1) | (np.linalg.norm(tangent, axis=1) < 0.5)
     valid &= ~bad

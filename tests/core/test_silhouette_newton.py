@@ -93,3 +93,55 @@ def test_a_silhouette_step_is_not_taken_across_a_crease():
     assert st.ok[0]
     np.testing.assert_allclose(np.linalg.norm(st.X[0] - c1), r1, atol=1e-9)
     assert abs(st.X[0, 1]) < 1e-9
+
+
+def test_silhouette_seeds_are_refined_by_newton_and_one_across_a_crease_is_not():
+    """refine_seeds settles a silhouette bracket by Newton's method in the plane through
+    the bracket across the outline: the seed is on the sphere and on its silhouette to
+    rounding, between the bracket's ends, with the circle's tangent. A bracket across the
+    crease of two overlapping balls (where n.v jumps through zero without a silhouette
+    between the ends) yields no seed."""
+    from blobtree_ink.agents.tracer import refine_seeds
+    eye = np.array([0.0, -5.0, 1.0])
+    surf = sphere_surface(View(eye=tuple(eye)))
+    d = np.linalg.norm(eye)
+    axis = eye / d
+    centre = K * K / d * axis
+    rad = K * math.sqrt(1 - K * K / (d * d))
+    u = np.cross(axis, [1.0, 0, 0])
+    u /= np.linalg.norm(u)
+    w = np.cross(axis, u)
+    a = np.linspace(0, 2 * math.pi, 16, endpoint=False)
+    radial = np.cos(a)[:, None] * u + np.sin(a)[:, None] * w
+    on = centre + rad * radial
+    # polygon-edge-like brackets: ends off the circle on either side, off the surface
+    A = on + 0.08 * radial + 0.05 * axis
+    B = on - 0.1 * radial - 0.04 * axis + 0.02 * np.cross(axis, radial)
+    kinds = np.full(len(A), SIL)
+    X, n, T, ref, A2, B2, valid = refine_seeds(surf, kinds, A, B, 1e-10, math.radians(35))
+    assert valid.all()
+    np.testing.assert_allclose(np.linalg.norm(X, axis=1), K, atol=1e-12)
+    v = surf.view.towards_eye(X)
+    assert np.abs(np.einsum("ij,ij->i", n, v)).max() < 1e-10
+    t = np.cross(axis, X - centre)
+    t /= np.linalg.norm(t, axis=1, keepdims=True)
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->i", T, t)), 1.0, atol=1e-6)
+    np.testing.assert_allclose(A2, X)                       # a Newton seed's bracket is its point
+
+    # two overlapping balls seen along x: at the top of their crease circle n.v jumps
+    # from about -0.8 (ball 0) to +0.66 (ball 1); the balls' own silhouettes (x = 0 and
+    # x = 0.9) are further away than the bracket is long
+    c1 = np.array([0.9, 0, 0])
+    ev = M.Evaluator(model_of({"type": "union", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.5},
+        {"type": "point", "center": list(c1), "radius": 1.2}]}))
+    s2 = Surface(ev, View(direction=(1.0, 0.0, 0.0)))
+    r0, r1 = K * 1.5, K * 1.2
+    xc = (r0 ** 2 - r1 ** 2 + 0.81) / 1.8
+    p = np.array([xc, 0.0, math.sqrt(r0 ** 2 - xc ** 2)])
+    jump = p / r0 - (p - c1) / r1
+    A, B = p - 0.05 * jump, p + 0.05 * jump                  # ball 0's side, ball 1's side
+    nv = [s2.view.towards_eye(q[None])[0] @ (q - c) / r for q, c, r in ((p, 0 * c1, r0), (p, c1, r1))]
+    assert nv[0] < -0.5 and nv[1] > 0.5
+    X, n, T, ref, _, _, valid = refine_seeds(s2, np.array([SIL]), A[None], B[None], 1e-10, math.radians(35))
+    assert not valid[0]
