@@ -29,7 +29,7 @@ from . import crease_seeds, explore, manager
 from .outline import Outline, stitch_scales
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
-from .traced import SELF_GAP, TracedPoints
+from .traced import SELF_GAP, TracedPoints, consume_crossed
 
 REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
 
@@ -348,29 +348,13 @@ class Session:
             else:
                 self._finish(tr)
         self.traces = still
-        self._consume_covered(kinds[covered], X[covered], n[covered], base[covered])
+        W = np.where((kinds == KIND_ID["crease"])[:, None], refn, np.cross(n, Tn))
+        W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
+        consume_crossed(self, kinds[covered], X[covered], n[covered], W[covered], base[covered])
         if side_seeds:
             a, b, cell = (np.array([x[i] for x in side_seeds]) for i in range(3))
             self.bb.add_features(0.5 * (a + b), a, b, "silhouette", cell)
         return [rows]
-
-    def _consume_covered(self, kinds, X, n, steps):
-        """Open seeds within 0.75 of their cell (a voxel, or a subdivided voxel's fine
-        cell), or of the covering trace's step if longer, of this iteration's new trace
-        points (traced with ``steps``) are taken as traced, unless
-        (silhouettes, curvature-sign lines) their normal shows them on another sheet: the
-        inner and outer silhouettes of a thin lip lie that close."""
-        cos = np.cos(0.5 * self.settings.crease_angle)
-        for k in np.unique(kinds):
-            m = kinds == k
-            ids, j = self.bb.open_near(X[m], FEATURE_KINDS[k], 0.75 * self.h)
-            reach = 0.75 * np.maximum(self.bb.feat["cell"][ids], steps[m][j])
-            near = np.linalg.norm(self.bb.feat["pos"][ids] - X[m][j], axis=1) < reach
-            ids, j = ids[near], j[near]
-            if len(ids) and k != KIND_ID["crease"]:
-                _, g = self.ev.field_grad(self.bb.feat["a"][ids])
-                ids = ids[np.einsum("ij,ij->i", self.surface.normals(g), n[m][j]) > cos]
-            self.bb.consume(ids)
 
     def _finish(self, tr):
         pts = tr.bwd[::-1] + tr.fwd

@@ -1,6 +1,6 @@
 """Points of the outlines traced so far, hashed by cells of one trace step: which
 outline is near a point (to start no second trace on it, to stop a trace that meets
-another, or closes on itself)."""
+another, or closes on itself); and which open seeds new trace points cover."""
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
@@ -53,3 +53,36 @@ class TracedPoints:
                         if np.linalg.norm(q - p) < max(radius, 0.6 * qs):
                             return (tid, qa)
         return None
+
+
+def consume_crossed(session, kinds, X, n, W, steps):
+    """A session's open seeds whose bracket (a polygon edge, or a finer one) crosses this
+    iteration's new trace points' outline are taken as traced: its ends lie on
+    either side of the plane through a new point X across ``W`` (silhouettes and
+    curvature-sign lines: n x T; creases: their ref, the side normals' difference),
+    and where it crosses that plane is within 0.75 of its cell (a voxel, or a
+    subdivided voxel's fine cell), or of the covering trace's step if longer, of X.
+    A seed merely near X is not taken: a parallel outline half a cell away (the two
+    silhouettes of a fold, a suture's crease beside them) keeps its seeds. Nor
+    (silhouettes, curvature-sign lines) is one whose normal shows it on another
+    sheet: the inner and outer silhouettes of a thin lip lie that close."""
+    cos = np.cos(0.5 * session.settings.crease_angle)
+    f = session.bb.feat
+    for k in np.unique(kinds):
+        m = kinds == k
+        ids, j = session.bb.open_near(X[m], FEATURE_KINDS[k], 1.5 * session.h)
+        Xj, Wj = X[m][j], W[m][j]
+        cell = f["cell"][ids]
+        reach = 0.75 * np.maximum(cell, steps[m][j])
+        da = np.einsum("ij,ij->i", f["a"][ids] - Xj, Wj)
+        db = np.einsum("ij,ij->i", f["b"][ids] - Xj, Wj)
+        on = np.minimum(np.abs(da), np.abs(db)) < 0.05 * cell
+        cross = (da * db < 0) | on
+        u = np.where(da != db, da / np.where(da != db, da - db, 1.0), 0.5)
+        c = f["a"][ids] + np.clip(u, 0.0, 1.0)[:, None] * (f["b"][ids] - f["a"][ids])
+        take = cross & (np.linalg.norm(c - Xj, axis=1) < reach)
+        ids, j = ids[take], j[take]
+        if len(ids) and k != KIND_ID["crease"]:
+            _, g = session.ev.field_grad(f["a"][ids])
+            ids = ids[np.einsum("ij,ij->i", session.surface.normals(g), n[m][j]) > cos]
+        session.bb.consume(ids)

@@ -4,6 +4,7 @@ steps, and neither counts points or seeds on another sheet."""
 import numpy as np
 
 from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents.traced import consume_crossed
 from blobtree_ink.blackboard.board import KIND_ID
 from blobtree_ink.blackboard.view import View
 
@@ -33,23 +34,42 @@ def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
     assert s.traced.near(0, near, s.step_len, 8, n=turn(1.1 * half)) is None
 
 
-def test_new_trace_points_cover_open_seeds_of_their_own_sheet_only(load_example):
-    """Open seeds within 0.75 voxel of a new trace point are taken as traced, unless
-    their normal shows another sheet (the inner and outer silhouettes of a thin lip
-    lie that close); crease seeds, which have no one normal, are covered by distance."""
+def test_new_trace_points_cover_the_seeds_whose_bracket_they_cross(load_example):
+    """An open seed is taken as traced when its bracket crosses the new trace point's
+    outline (ends either side of the plane through X across W) within 0.75 voxel of
+    X, and (silhouettes) its normal agrees. A seed of a parallel outline half a voxel
+    beside it (both ends on one side) stays open, though its position is that close;
+    so does a crossing seed further along the outline, and a silhouette seed whose
+    normal shows another sheet (the inner and outer silhouettes of a thin lip). Crease
+    seeds, which have no one normal, are covered by crossing alone."""
     s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
     s.bb.consume(np.arange(len(s.bb.feat)))               # only the seeds made here are open
-    r = K
-    p = np.array([r, 0.0, 0.0])                            # on the sphere, its normal +x
-    q = p + [0.0, 0.0, 0.2 * s.h]
-    same = s.bb.add_features(q, np.array([r * 0.999, 0.0, r * 0.045]), q, "silhouette")   # a near p: +x sheet
-    other = s.bb.add_features(q, np.array([-r, 0.0, 0.0]), q, "silhouette")              # a on the -x side
-    crease = s.bb.add_features(q, np.array([-r, 0.0, 0.0]), q, "crease")
-    far = s.bb.add_features(p + [0.0, 0.0, 2 * s.h], p, p, "silhouette")
-    s._consume_covered(np.array([KIND_ID["silhouette"], KIND_ID["crease"]]), np.array([p, p]),
-                       np.array([[1.0, 0, 0], [1.0, 0, 0]]), np.full(2, s.step_len))
-    f = s.bb.feat["used"]
-    assert f[same[0]] and not f[other[0]] and f[crease[0]] and not f[far[0]]
+    h = s.h
+    X = np.array([K, 0.0, 0.0])                            # on the sphere, its normal +x
+    T, W = np.array([0.0, 0.0, 1.0]), np.array([0.0, -1.0, 0.0])
+
+    def seed(kind, a, b):
+        a, b = np.asarray(a, float), np.asarray(b, float)
+        return s.bb.add_features(0.5 * (a + b), a[None], b[None], kind)[0]
+    across = seed("silhouette", X + 0.3 * h * W + 0.2 * h * T, X - 0.3 * h * W + 0.2 * h * T)
+    end_on = seed("silhouette", X + 0.1 * h * T, X - 0.4 * h * W + 0.1 * h * T)   # an end on the outline
+    parallel = seed("silhouette", X + 0.35 * h * W, X + 0.75 * h * W)
+    further = seed("silhouette", X + 0.3 * h * W + 1.2 * h * T, X - 0.3 * h * W + 1.2 * h * T)
+    cr_across = seed("crease", X + 0.3 * h * W - 0.2 * h * T, X - 0.3 * h * W - 0.2 * h * T)
+    cr_parallel = seed("crease", X - 0.35 * h * W, X - 0.75 * h * W)
+    sil, cre = KIND_ID["silhouette"], KIND_ID["crease"]
+    consume_crossed(s, np.array([sil, cre]), np.array([X, X]), np.array([[1.0, 0, 0], [1.0, 0, 0]]),
+                       np.array([W, W]), np.full(2, s.step_len))
+    used = s.bb.feat["used"]
+    assert used[across] and used[end_on] and used[cr_across]
+    assert not used[parallel] and not used[further] and not used[cr_parallel]
+    # another sheet: the same crossing bracket, the trace's normal facing the other way
+    other = seed("silhouette", X + 0.3 * h * W + 0.2 * h * T, X - 0.3 * h * W + 0.2 * h * T)
+    cr_other = seed("crease", X + 0.3 * h * W + 0.2 * h * T, X - 0.3 * h * W + 0.2 * h * T)
+    consume_crossed(s, np.array([sil, cre]), np.array([X, X]), np.array([[-1.0, 0, 0], [-1.0, 0, 0]]),
+                       np.array([W, W]), np.full(2, s.step_len))
+    used = s.bb.feat["used"]
+    assert not used[other] and used[cr_other]
 
 
 def test_points_of_a_longer_stepped_outline_count_within_its_step(load_example):
