@@ -179,8 +179,8 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
 
 def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     """The corrector by bracketing: project the predicted point, bracket the outline
-    across the tangent at three widths and bisect the narrowest bracket that holds a
-    crossing. Returns the points, the final bracket ends and their normals, and
+    across the tangent at three widths, bisect every bracket that holds a crossing
+    and keep each task's narrowest valid one. Returns the points, the final bracket ends and their normals, and
     whether each was found."""
     Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
     n = surface.normals(gQ)
@@ -200,22 +200,18 @@ def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     sink = np.where(kw == CREASE, 0.5, 0.0)[:, None] * np.linalg.norm(d, axis=1, keepdims=True) * np.tile(n, (3, 1))
     E = surface.ends(kw, Qw + d - sink, Qw - d - sink, rw, anchor=Qw)
     crossing = ((E[2] > 0) != (E[5] > 0)).reshape(len(widths), m)
-    # each task bisects only its narrowest bracket with a sign change (one batch); where
-    # that bisection fails (no convergence, a smooth bend taken for a crease), its next
-    # wider bracket with a sign change is bisected
-    tried = np.zeros((len(widths), m), bool)
-    while True:
-        left = crossing & ~tried & ~found[None, :]
-        todo = np.flatnonzero(left.any(axis=0))
-        if len(todo) == 0:
-            break
-        j = np.argmax(left[:, todo], axis=0)
-        tried[j, todo] = True
+    # every bracket with a sign change is bisected in one batch (the bisection runs as
+    # long as its slowest bracket, so one batch costs about the sequential calls of
+    # one); each task keeps its narrowest valid one
+    j, todo = np.nonzero(crossing)
+    if len(todo):
         src = j * m + todo
         x, _, A, B, nA, nB, valid = surface.bisect(kw[src], None, None, rw[src], tol, crease_angle=crease_angle,
                                                    ends=tuple(e[src] for e in E))
-        got, v = todo[valid], np.flatnonzero(valid)
-        X[got] = x[v]
-        A_out[got], B_out[got], nA_out[got], nB_out[got] = A[v], B[v], nA[v], nB[v]
-        found[got] = True
+        for w in range(len(widths) - 1, -1, -1):        # the narrowest valid bracket last, so it wins
+            v = np.flatnonzero(valid & (j == w))
+            got = todo[v]
+            X[got] = x[v]
+            A_out[got], B_out[got], nA_out[got], nB_out[got] = A[v], B[v], nA[v], nB[v]
+            found[got] = True
     return X, A_out, B_out, nA_out, nB_out, found
