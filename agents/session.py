@@ -26,6 +26,7 @@ from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature
 from . import crease_seeds, explore, manager
+from .beside import seeds_beside_silhouettes
 from .outline import Outline, stitch_scales
 from .surface import Surface
 from .tracer import refine_seeds, trace_step
@@ -138,11 +139,15 @@ class Session:
         self._starts = starts
 
     def _queue_detail(self):
-        """Once the polygon edges' seeds are traced: explore the voxels the blackboard
-        flags (corner normals that disagree) that no traced outline passes through, in
-        order of priority, for outlines smaller than a grid cell."""
+        """Once the polygon edges' seeds are traced: seed the silhouettes beside traced
+        ones (agents/beside.py), and explore the voxels the blackboard flags (corner
+        normals that disagree) that no traced outline passes through, in order of
+        priority, for outlines smaller than a grid cell."""
         self._detail = explore.flagged_voxels(self)
-        if not any(k == "OUTLINES" for k, _ in self.requests) or len(self._detail) == 0:
+        if not any(k == "OUTLINES" for k, _ in self.requests):
+            return
+        seeds_beside_silhouettes(self, self._in_regions)
+        if len(self._detail) == 0:
             return
         v = self.bb.vox
         centres = self.bb.lo + (v["ijk"][self._detail] + 0.5) * self.h
