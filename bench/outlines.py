@@ -164,7 +164,7 @@ def main():
     ap.add_argument("--gt-res", type=int, default=256)
     ap.add_argument("--limit", type=float, default=60.0)
     ap.add_argument("--grid", type=int, default=None, help="MASSRIS grid (default: the papers' per model)")
-    ap.add_argument("--agents", type=int, default=1000, help="MASSRIS agents (default 1000, as the session)")
+    ap.add_argument("--agents", type=int, default=Settings.agents, help="MASSRIS agents (default: the session's)")
     ap.add_argument("--no-baseline", action="store_true", help="run MASSRIS only (the baseline takes the limit)")
     a = ap.parse_args()
     series = []

@@ -2,6 +2,7 @@
 mapping to the pure drawing style (strokes.style.Style) and its presets."""
 import bpy
 
+from ..agents.session import Settings as _RunSettings
 from ..strokes import smarticles as sm
 from ..strokes import style as ST
 
@@ -9,7 +10,7 @@ from ..strokes import style as ST
 STYLE_PROPS = ("hatching", "stipples", "chains", "short", "hatch_field", "hatch_axis", "cross_hatching", "cross_field",
                "surface", "flock_size", "shade_lower", "shade_upper", "chain_step", "chain_angle",
                "stipple_every", "line_width", "contrast")
-RUN_DEFAULTS = dict(grid_resolution=20, agents=1000, lod=0.5)
+RUN_DEFAULTS = dict(grid_resolution=_RunSettings.resolution, agents=_RunSettings.agents, lod=_RunSettings.lod)
 
 
 def _preset_values(style):
@@ -58,7 +59,7 @@ def _weight(name, default):
 class BlobTreeInkSettings(bpy.types.PropertyGroup):
     grid_resolution: bpy.props.IntProperty(name="Grid", default=20, min=8, max=128,
                                            description="About Grid^3 cubic blackboard cells over the model")
-    agents: bpy.props.IntProperty(name="Agents", default=1000, min=1, max=4096,
+    agents: bpy.props.IntProperty(name="Agents", default=RUN_DEFAULTS["agents"], min=1, max=10000,
                                   description="Agents stepped together each system iteration")
     lod: bpy.props.FloatProperty(name="Level of Detail", default=0.5, min=0.0, max=1.0)
     seed: bpy.props.IntProperty(name="Seed", default=0, min=0)

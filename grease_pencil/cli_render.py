@@ -1,4 +1,5 @@
 """The `render` subcommand of the command line (Blender layer: it needs bpy)."""
+from ..agents.session import Settings
 from ..model import ModelError, load
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
@@ -11,7 +12,8 @@ def add_parser(sub):
     p.add_argument("--out", required=True, help="output directory (created if its parent exists)")
     p.add_argument("--size", type=int, default=1024, help="image size in pixels (default 1024)")
     p.add_argument("--grid", type=int, default=20, help="blackboard grid resolution, 8-128 (default 20)")
-    p.add_argument("--agents", type=int, default=1000, help="number of agents, stepped together (default 1000)")
+    p.add_argument("--agents", type=int, default=Settings.agents,
+                   help=f"number of agents, stepped together (default {Settings.agents})")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--azimuth", type=float, default=35.0, help="camera azimuth in degrees from the front")
     p.add_argument("--elevation", type=float, default=25.0, help="camera elevation in degrees")

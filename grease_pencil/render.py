@@ -37,7 +37,7 @@ def plan_view(ev, azimuth=35.0, elevation=25.0):
     return centre, radius, S.three_quarter_eye(centre, radius, azimuth, elevation)
 
 
-def illustrate(model, out_dir, size=1024, grid=20, agents=1000, seed=0, azimuth=35.0, elevation=25.0,
+def illustrate(model, out_dir, size=1024, grid=20, agents=Settings.agents, seed=0, azimuth=35.0, elevation=25.0,
                seconds=None, style=None, light=None, log=print):
     """Illustrate ``model`` with ``style`` (a strokes.style.Style; default outlines)
     lit from ``light`` (a direction; default upper left of the viewer)."""
