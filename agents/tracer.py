@@ -180,8 +180,8 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
 def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     """The corrector by bracketing: project the predicted point, bracket the outline
     across the tangent at three widths, bisect every bracket that holds a crossing
-    and keep each task's narrowest valid one. Returns the points, the final bracket ends and their normals, and
-    whether each was found."""
+    and keep each task's narrowest valid one. Returns the points, the final bracket
+    ends and their normals, and whether each was found."""
     Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
     n = surface.normals(gQ)
     W = unit(np.cross(n, T))
