@@ -18,17 +18,33 @@ def sphere_surface(view):
     return Surface(ev, view)
 
 
+def silhouette_circle(eye, r=K):
+    """The silhouette circle of the sphere of radius r at the origin seen from eye:
+    its centre, radius, the unit axis towards the eye and two unit vectors across it."""
+    d = np.linalg.norm(eye)
+    axis = eye / d
+    u = np.cross(axis, [1.0, 0, 0])
+    u /= np.linalg.norm(u)
+    return r * r / d * axis, r * math.sqrt(1 - r * r / (d * d)), axis, u, np.cross(axis, u)
+
+
+def two_balls():
+    """Overlapping balls (radii 1.5 and 1.2, centres 0.9 apart on x) and their crease
+    circle's plane x = xc and radius rc."""
+    c1 = np.array([0.9, 0, 0])
+    ev = M.Evaluator(model_of({"type": "union", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.5},
+        {"type": "point", "center": list(c1), "radius": 1.2}]}))
+    r0, r1 = K * 1.5, K * 1.2
+    xc = (r0 ** 2 - r1 ** 2 + 0.81) / 1.8
+    return ev, c1, r0, r1, xc, math.sqrt(r0 ** 2 - xc ** 2)
+
+
 def test_newton_lands_on_the_exact_silhouette_circle_in_the_plane_across_the_tangent():
     r = K
     eye = np.array([0.0, -5.0, 1.0])
     surf = sphere_surface(View(eye=tuple(eye)))
-    d = np.linalg.norm(eye)
-    axis = eye / d
-    centre = r * r / d * axis                       # the silhouette circle of the sphere
-    rad = r * math.sqrt(1 - r * r / (d * d))
-    u = np.cross(axis, [1.0, 0, 0])
-    u /= np.linalg.norm(u)
-    w = np.cross(axis, u)
+    centre, rad, axis, u, w = silhouette_circle(eye, r)
     a = np.linspace(0, 2 * math.pi, 40, endpoint=False)
     on = centre + rad * (np.cos(a)[:, None] * u + np.sin(a)[:, None] * w)
     T = -np.sin(a)[:, None] * u + np.cos(a)[:, None] * w          # along the circle
@@ -66,17 +82,10 @@ def test_a_silhouette_step_is_not_taken_across_a_crease():
     circle would land Newton on the other ball's sheet; with a retry left the step is
     refused (the caller halves it), and without one the bracketing (whose brackets may
     lie wholly on the far sheet) does not take it either."""
-    c0, c1 = np.array([0.0, 0, 0]), np.array([0.9, 0, 0])
-    ev = M.Evaluator(model_of({"type": "union", "children": [
-        {"type": "point", "center": list(c0), "radius": 1.5},
-        {"type": "point", "center": list(c1), "radius": 1.2}]}))
+    ev, c1, r0, r1, xc, zc = two_balls()
     surf = Surface(ev, View(direction=(0.0, 1.0, 0.0)))
-    r1 = K * 1.2
     # ball 1's silhouette (orthographic along y): the circle y = 0 around c1, in x-z;
     # it meets the crease circle (x = x_c) at z = +-zc
-    r0 = K * 1.5
-    xc = (r0 ** 2 - r1 ** 2 + 0.81) / 1.8
-    zc = math.sqrt(r0 ** 2 - xc ** 2)
     ang = math.atan2(zc, xc - 0.9) - 0.15                           # on ball 1, 0.15 rad short of the crease
     P = np.array([[0.9 + r1 * math.cos(ang), 0.0, r1 * math.sin(ang)]])
     T = np.array([[-math.sin(ang), 0.0, math.cos(ang)]])            # towards the crease
@@ -104,13 +113,7 @@ def test_silhouette_seeds_are_refined_by_newton_and_one_across_a_crease_is_not()
     from blobtree_ink.agents.tracer import refine_seeds
     eye = np.array([0.0, -5.0, 1.0])
     surf = sphere_surface(View(eye=tuple(eye)))
-    d = np.linalg.norm(eye)
-    axis = eye / d
-    centre = K * K / d * axis
-    rad = K * math.sqrt(1 - K * K / (d * d))
-    u = np.cross(axis, [1.0, 0, 0])
-    u /= np.linalg.norm(u)
-    w = np.cross(axis, u)
+    centre, rad, axis, u, w = silhouette_circle(eye)
     a = np.linspace(0, 2 * math.pi, 16, endpoint=False)
     radial = np.cos(a)[:, None] * u + np.sin(a)[:, None] * w
     on = centre + rad * radial
@@ -131,14 +134,9 @@ def test_silhouette_seeds_are_refined_by_newton_and_one_across_a_crease_is_not()
     # two overlapping balls seen along x: at the top of their crease circle n.v jumps
     # from about -0.8 (ball 0) to +0.66 (ball 1); the balls' own silhouettes (x = 0 and
     # x = 0.9) are further away than the bracket is long
-    c1 = np.array([0.9, 0, 0])
-    ev = M.Evaluator(model_of({"type": "union", "children": [
-        {"type": "point", "center": [0, 0, 0], "radius": 1.5},
-        {"type": "point", "center": list(c1), "radius": 1.2}]}))
+    ev, c1, r0, r1, xc, zc = two_balls()
     s2 = Surface(ev, View(direction=(1.0, 0.0, 0.0)))
-    r0, r1 = K * 1.5, K * 1.2
-    xc = (r0 ** 2 - r1 ** 2 + 0.81) / 1.8
-    p = np.array([xc, 0.0, math.sqrt(r0 ** 2 - xc ** 2)])
+    p = np.array([xc, 0.0, zc])
     jump = p / r0 - (p - c1) / r1
     A, B = p - 0.05 * jump, p + 0.05 * jump                  # ball 0's side, ball 1's side
     nv = [s2.view.towards_eye(q[None])[0] @ (q - c) / r for q, c, r in ((p, 0 * c1, r0), (p, c1, r1))]
