@@ -173,7 +173,7 @@ class Surface:
         s = self.signs(np.concatenate([kinds, kinds]), P, g, np.concatenate([ref, ref]))
         return P[:m], g[:m], s[:m], P[m:], g[m:], s[m:]
 
-    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None, anchor=None, ends=None):
+    def bisect(self, kinds, A, B, ref, tol, iters=60, crease_angle=None, anchor=None, ends=None, finish=None):
         """Zero crossings between bracket ends A, B (on the surface, opposite signs).
 
         Regula falsi with the Illinois modification on the segment A-B, every trial
@@ -185,13 +185,23 @@ class Surface:
         bracket below 0.7 (a wide bracket across a sharp wedge shrank by only about
         0.86 per plain bisection: 40 iterations against 9). Returns the crossing (the
         final bracket end on the first end's side, on the surface to rounding), its
-        gradient, the final bracket ends and their normals, and whether each bracket held a sign change. With
-        ``crease_angle``, a crease bracket whose end normals come within half of it is
-        a smooth bend, not a crease: it stops at once, invalid (narrowing a smooth
-        surface only brings the normals closer; a crease keeps them apart). ``anchor``:
-        an on-surface point for each bracket (e.g. its centre) towards which an end on
-        a flat field moves first (see :meth:`project`); trial points use the first end.
-        ``ends``: the ends already projected (:meth:`ends`; A, B and anchor are then unused)."""
+        gradient, the final bracket ends and their normals, and whether each bracket
+        held a sign change. With ``crease_angle``, a crease bracket whose end normals
+        come within half of it is a smooth bend, not a crease: it stops at once, invalid
+        (narrowing a smooth surface only brings the normals closer; a crease keeps them
+        apart). ``anchor``: an on-surface point for each bracket (e.g. its centre)
+        towards which an end on a flat field moves first (see :meth:`project`); trial
+        points use the first end. ``ends``: the ends already projected (:meth:`ends`;
+        A, B and anchor are then unused).
+
+        ``finish`` (per bracket, or one for all): a crease bracket narrower than this
+        stops, and its crossing is the point where its ends' tangent planes meet,
+        projected onto the surface. That point is off the crease by about the sheets'
+        curvature times the width squared: with ``finish`` = sqrt(tol * L) for sheets
+        curved no tighter than radius L, by about ``tol``. The plain iterations crawl
+        down there (an estimate next to one end moves that end by its nudge alone, then
+        a midpoint halves: about 0.47 per two iterations), so this saves a crease's last
+        ten or so bisections, tiny batches each."""
         if ends is None:
             ends = self.ends(kinds, A, B, ref, anchor)
         A, gA, sA, B, gB, sB = (x.copy() for x in ends)
@@ -206,6 +216,7 @@ class Surface:
         check = width.copy()                     # width at the last progress check
         check_c = width.copy()                   # the same for crease brackets
         width0 = width.copy()
+        stop_c = np.maximum(np.broadcast_to(tol if finish is None else finish, (len(A),)), tol)
         for it in range(iters):
             if len(live) == 0:
                 break
@@ -239,7 +250,10 @@ class Surface:
                 # are still apart by half the crease angle once the bracket is down to a
                 # hundredth, and whose signed quantity is still far from zero at both
                 # ends, jumps across a crease (where n.v jumps through zero); the caller
-                # would reject it at the end, after every remaining iteration
+                # would reject it at the end, after every remaining iteration. Where n.v
+                # is small beside the crease, it does so too once the bracket is down to
+                # a thousandth (a smooth sheet would have to bend through half the crease
+                # angle within that: a radius of curvature below a thousandth of a cell)
                 sl = np.flatnonzero(~jump[live] & ~dead & (w < 0.01 * width0[live]))
                 if len(sl):
                     j = live[sl]
@@ -247,10 +261,11 @@ class Surface:
                     far = np.minimum(np.abs(self.signs(kinds[j], A[j], gA[j], ref[j])),
                                      np.abs(self.signs(kinds[j], B[j], gB[j], ref[j])))
                     scale = np.where(kinds[j] == CURV, self.scale, 1.0)
-                    dead[sl[(cos < np.cos(0.5 * crease_angle)) & (far * scale > 0.05)]] = True
+                    tiny = w[sl] < 1e-3 * width0[j]
+                    dead[sl[(cos < np.cos(0.5 * crease_angle)) & ((far * scale > 0.05) | tiny)]] = True
             valid[live[dead]] = False
             live, w = live[~dead], w[~dead]
-            live = live[w > tol]
+            live = live[w > np.where(jump[live], stop_c[live], tol)]
             if len(live) == 0:
                 break
             a, b = sA[live], sB[live]
@@ -306,7 +321,26 @@ class Surface:
             if len(live):
                 open_ = (np.linalg.norm(A[live] - B[live], axis=1) > tol) & ~jump[live]
                 valid[live[open_]] = False
-        return A, gA, A, B, self.normals(gA), self.normals(gB), valid
+        X, gX = A.copy(), gA.copy()
+        if finish is not None:
+            self._finish_creases(np.flatnonzero(jump & valid), A, gA, B, gB, tol, X, gX)
+        return X, gX, A, B, self.normals(gA), self.normals(gB), valid
+
+    def _finish_creases(self, rows, A, gA, B, gB, tol, X, gX):
+        """Crease crossings (X, gX, in place) of narrow brackets still wider than tol:
+        where the ends' tangent planes meet, projected onto the surface (across a sharp
+        wedge up to WEDGE widths from the bracket's midpoint); a projection that moves
+        further than the bracket is wide keeps the end A."""
+        w = np.linalg.norm(A[rows] - B[rows], axis=1)
+        rows, w = rows[w > tol], w[w > tol]
+        if len(rows) == 0:
+            return
+        mid = 0.5 * (A[rows] + B[rows])
+        E = _crease_estimate(A[rows], B[rows], self.normals(gA[rows]), self.normals(gB[rows]), mid)
+        P, f, g = self.project(E.copy(), steps=4, max_step=float(w.max()))
+        ok = (np.linalg.norm(P - E, axis=1) <= w) & (np.linalg.norm(P - mid, axis=1) <= WEDGE * w)
+        ok &= np.abs(f - self.iso) <= 1e-12 * max(self.iso, 1.0)
+        X[rows[ok]], gX[rows[ok]] = P[ok], g[ok]
 
 
 def _crease_estimate(A, B, nA, nB, mid):

@@ -85,17 +85,21 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
         nA[got] = nB[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         valid[got] = by_newton[got] = True
+    # a crease bracket stops at sqrt(tol * its length): sheets curved no tighter than the
+    # bracket is long then put the crossing from the tangent planes within tol
+    finish = np.sqrt(tol * np.linalg.norm(b0 - a0, axis=1))
     rest = np.flatnonzero(~by_newton)
     if len(rest):
         out = surface.bisect(kinds[rest], None, None, ref[rest], tol, crease_angle=crease_angle,
-                             ends=(a[rest], ga[rest], sA[rest], b[rest], gb[rest], sB[rest]))
+                             ends=(a[rest], ga[rest], sA[rest], b[rest], gb[rest], sB[rest]),
+                             finish=finish[rest])
         for arr, val in zip((X, gX, A, B, nA, nB, valid), out):
             arr[rest] = val
     cre = np.flatnonzero((kinds == CREASE) & valid)
     if len(cre):
         # creases: bisect once more from the narrowed bracket with its own side normals
         x2, g2, A2, B2, nA2, nB2, v2 = surface.bisect(kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol,
-                                                      crease_angle=crease_angle)
+                                                      crease_angle=crease_angle, finish=finish[cre])
         X[cre[v2]], gX[cre[v2]], A[cre[v2]], B[cre[v2]] = x2[v2], g2[v2], A2[v2], B2[v2]
         nA[cre[v2]], nB[cre[v2]] = nA2[v2], nB2[v2]
     cre = kinds == CREASE
@@ -207,7 +211,7 @@ def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     if len(todo):
         src = j * m + todo
         x, _, A, B, nA, nB, valid = surface.bisect(kw[src], None, None, rw[src], tol, crease_angle=crease_angle,
-                                                   ends=tuple(e[src] for e in E))
+                                                   ends=tuple(e[src] for e in E), finish=np.sqrt(tol * h[todo]))
         for w in range(len(widths) - 1, -1, -1):        # the narrowest valid bracket last, so it wins
             v = np.flatnonzero(valid & (j == w))
             got = todo[v]

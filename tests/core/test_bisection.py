@@ -97,6 +97,33 @@ def test_crease_brackets_converge_in_a_few_iterations():
     assert np.abs(np.linalg.norm(rel - along[:, None] * axis, axis=1) - rad).max() < 1e-6
 
 
+def test_a_narrow_crease_bracket_finishes_where_its_tangent_planes_meet():
+    """With ``finish`` = sqrt(tol * L), a crease bracket stops at that width and its
+    crossing is where its ends' tangent planes meet, projected onto the surface: off the
+    crease by the sheets' curvature times the width squared, so as close as the full
+    bisection to tol, in fewer iterations."""
+    c0, c1 = np.array([0.0, 0, 0]), np.array([0.6, 0.1, -0.1])
+    root = {"type": "difference", "children": [{"type": "point", "center": list(c0), "radius": 1.5},
+                                               {"type": "point", "center": list(c1), "radius": 1.2}]}
+    s, surf, a, ga, b, gb = crease_seed_brackets(root, (4, -6, 3))
+    tol = 1e-8 * s.ev.scale
+    kinds, ref = np.full(len(a), CREASE), surf.normals(ga) - surf.normals(gb)
+    full = surf.bisect(kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle)
+    calls_full, surf.calls = surf.calls, 0
+    finish = np.sqrt(tol * np.linalg.norm(a - b, axis=1))
+    X, gX, A, B, _, _, valid = surf.bisect(kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle,
+                                           finish=finish)
+    assert np.array_equal(valid, full[-1]) and valid.mean() > 0.9
+    assert surf.calls < calls_full
+    w = np.linalg.norm(A[valid] - B[valid], axis=1)
+    assert np.all(w <= finish[valid]) and np.median(w) > 10 * tol       # it stopped early
+    np.testing.assert_allclose(s.ev.field(X[valid]), s.ev.iso, atol=1e-12)
+    centre, axis, rad = two_sphere_crease(c0, K * 1.5, c1, K * 1.2)
+    rel = X[valid] - centre
+    along = rel @ axis
+    assert np.abs(along).max() < tol
+    assert np.abs(np.linalg.norm(rel - along[:, None] * axis, axis=1) - rad).max() < tol
+
 def test_a_silhouette_bracket_across_a_crease_is_given_up_early():
     """n.v can change sign by jumping across a crease rather than passing through zero
     (here the rim of a pocket whose far wall faces away): such a bracket is no
