@@ -88,6 +88,8 @@ class _Trace:
     id: int = -1
     sides: tuple = None         # a crease's last point, side directions and side facings
     start_sides: tuple = None   # the same at its seed
+    paired: bool = False        # the other half (backwards from the seed) is its own task
+    start_n: np.ndarray = None  # the normal at its seed
 
 
 class Session:
@@ -255,7 +257,7 @@ class Session:
                 need = 2 if self.bb.feat["kind"][s] == KIND_ID["crease"] else 1
                 if need > budget:
                     break
-                budget -= need
+                budget -= 2 * need if 2 * need <= budget else need       # both ways, if it can
                 take.append(s)
             if take:
                 self._start_traces(np.array(take))
@@ -280,15 +282,21 @@ class Session:
             if self.traced.near(k, X[i], base[i], None, n=n[i]) is not None:
                 continue
             need = 2 if k == KIND_ID["crease"] else 1
-            agents = tuple(self.free.pop() for _ in range(need))
-            tr = _Trace(kind=k, agents=agents, p=X[i], t=T[i], ref=ref[i], start=X[i], start_t=T[i],
-                        start_ref=ref[i], id=len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration,
-                        h=float(base[i]), base=float(base[i]))
-            tr.sides = tr.start_sides = sides.get(i)
-            tr.fwd.append(X[i])
-            tr.fwd_n.append(n[i])
-            self.traced.remember(k, X[i], tr.id, 0, n[i], tr.base)
-            self.traces.append(tr)
+            # a task each way from the seed where agents are free for both: an outline
+            # between two seeds is then traced from both ends at once, in half the
+            # iterations; otherwise one task goes forwards, then backwards
+            paired = len(self.free) >= 2 * need
+            tid = len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration
+            for phase in ("fwd", "bwd") if paired else ("fwd",):
+                agents = tuple(self.free.pop() for _ in range(need))
+                tr = _Trace(kind=k, agents=agents, p=X[i], t=T[i] if phase == "fwd" else -T[i], ref=ref[i],
+                            start=X[i], start_t=T[i], start_ref=ref[i], id=tid, h=float(base[i]),
+                            base=float(base[i]), phase=phase, paired=paired, start_n=n[i])
+                tr.sides = tr.start_sides = sides.get(i)
+                self.traces.append(tr)
+            self.traces[-1 - paired].fwd.append(X[i])
+            self.traces[-1 - paired].fwd_n.append(n[i])
+            self.traced.remember(k, X[i], tid, 0, n[i], base[i])
 
     def _step_traces(self):
         if not self.traces:
@@ -300,7 +308,7 @@ class Session:
         ref = np.array([t.ref for t in trs])
         h = np.array([t.h for t in trs])
         base = np.array([t.base for t in trs])
-        nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.fwd_n[0] for t in trs])
+        nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.start_n for t in trs])
         retry = h > base / 16                  # a failed step may still be halved
         st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry)
         X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
@@ -343,8 +351,8 @@ class Session:
             elif end == "closed":
                 tr.closed = True
                 self._finish(tr)
-            elif tr.phase == "fwd" and self.traced.near(tr.kind, tr.start, tr.base, tr.id,
-                                                         n=tr.fwd_n[0]) is None:
+            elif tr.phase == "fwd" and not tr.paired and self.traced.near(tr.kind, tr.start, tr.base, tr.id,
+                                                                          n=tr.fwd_n[0]) is None:
                 tr.phase = "bwd"           # trace the other way from the seed
                 tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
                 tr.h = tr.base

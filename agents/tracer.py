@@ -5,9 +5,10 @@ Predictor: move along the current tangent by the step h. Corrector: project onto
 surface, bracket the outline across the tangent (in the tangent plane, on both sides;
 a crease bracket dips into the solid), and bisect the bracket to the outline (every
 bisection point is projected onto the surface). A crease task is a team of two agents,
-one on each side of the crease (the bracket ends): dual tracking. An outline ends when it closes on its start, meets an
-outline of the same kind already traced, or is lost (no bracket); an open outline is
-then traced backwards from its seed.
+one on each side of the crease (the bracket ends): dual tracking. A seed starts a task
+each way along its outline where agents are free for both (else one task goes forwards,
+then backwards from its seed). A task ends when its outline closes on its start, meets
+an outline of the same kind already traced, or is lost (no bracket).
 """
 from typing import NamedTuple
 
