@@ -12,7 +12,7 @@ from blobtree_ink.blackboard.view import View
 
 
 def traced(model, view):
-    s = Session(model, view, Settings(resolution=16))
+    s = Session(model, view, Settings(resolution=28))
     s.request("OUTLINES")
     while not s.done:
         s.step()
