@@ -14,6 +14,7 @@ from . import primitives as PR
 GRID_MIN_MEMBERS = 5         # smaller groups test every member on every point
 GRID_MAX_CELLS = 48 ** 3
 SMALL_DENSE = 2048           # a small batch tests every member: cheaper than the grid lookup
+PAIR_BLOCK = 1 << 21         # (primitive, cell) pairs tested at once when the grid is built
 
 
 class Group:
@@ -34,10 +35,19 @@ class Group:
             self.vlo, self.vhi = 0.0, float(S.max())
         else:
             self.vlo, self.vhi = 0.0, float((np.maximum(S, 0) ** self.n).sum() ** (1 / self.n))
-        self.grid = _build_grid(self.prm, plo, phi) if use_grid and self.m >= GRID_MIN_MEMBERS else None
+        self._gridded = use_grid and self.m >= GRID_MIN_MEMBERS
+        self._grid = None
 
     def __repr__(self):
         return f"Group({self.kind} x{self.m}, {self.reduce})"
+
+    @property
+    def grid(self):
+        """The candidate grid, built on first use: compiling a plan makes groups that a
+        parent group absorbs (nested blends), which never evaluate."""
+        if self._gridded and self._grid is None:
+            self._grid = _build_grid(self.prm, self.member_lo, self.member_hi)
+        return self._grid
 
     def pairs(self, P):
         """Candidate pairs for P (3, n): point index and member index of each pair,
@@ -157,22 +167,33 @@ def _build_grid(prm, plo, phi):
     dims = np.maximum(np.ceil(ext / cs).astype(np.int64), 1)
     slo, shi = PR.skeleton_bounds(prm)
     R = prm["R"]
+    a = np.clip(np.floor((plo - lo) / cs).astype(np.int64), 0, dims - 1)       # (m, 3) cell ranges
+    b = np.clip(np.floor((phi - lo) / cs).astype(np.int64), 0, dims - 1)
+    span = b - a + 1
+    count = np.prod(span, axis=1)
     cells_of = []
     members = []
-    for i in range(len(R)):
-        a = np.clip(np.floor((plo[i] - lo) / cs).astype(np.int64), 0, dims - 1)
-        b = np.clip(np.floor((phi[i] - lo) / cs).astype(np.int64), 0, dims - 1)
-        ix, iy, iz = np.meshgrid(np.arange(a[0], b[0] + 1), np.arange(a[1], b[1] + 1),
-                                 np.arange(a[2], b[2] + 1), indexing="ij")
-        cidx = np.stack([ix.ravel(), iy.ravel(), iz.ravel()], axis=1)
+    # every (primitive, cell of its box) pair, vectorised over primitives in blocks
+    # of about PAIR_BLOCK pairs
+    ends = np.cumsum(count)
+    i0 = 0
+    while i0 < len(R):
+        i1 = max(int(np.searchsorted(ends, ends[i0] - count[i0] + PAIR_BLOCK, side="right")), i0 + 1)
+        sel = np.arange(i0, i1)
+        n = count[sel]
+        prim = np.repeat(sel, n)
+        k = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        sy, sz = span[prim, 1], span[prim, 2]
+        cidx = a[prim] + np.stack([k // (sy * sz), (k // sz) % sy, k % sz], axis=1)
         clo = lo + cidx * cs
         chi = clo + cs
         # distance between the cell box and the skeleton's box
-        gap = np.maximum(np.maximum(slo[i] - chi, clo - shi[i]), 0.0)
-        near = np.einsum("ij,ij->i", gap, gap) < R[i] * R[i]
+        gap = np.maximum(np.maximum(slo[prim] - chi, clo - shi[prim]), 0.0)
+        near = np.einsum("ij,ij->i", gap, gap) < R[prim] * R[prim]
         c = cidx[near]
         cells_of.append(c[:, 0] * dims[1] * dims[2] + c[:, 1] * dims[2] + c[:, 2])
-        members.append(np.full(len(c), i, dtype=np.int64))
+        members.append(prim[near])
+        i0 = i1
     cells = np.concatenate(cells_of) if cells_of else np.zeros(0, np.int64)
     mem = np.concatenate(members) if members else np.zeros(0, np.int64)
     order = np.argsort(cells, kind="stable")
