@@ -257,7 +257,7 @@ class Session:
                 need = 2 if self.bb.feat["kind"][s] == KIND_ID["crease"] else 1
                 if need > budget:
                     break
-                budget -= 2 * need if 2 * need <= budget else need       # both ways, if it can
+                budget -= need
                 take.append(s)
             if take:
                 self._start_traces(np.array(take))
@@ -277,15 +277,19 @@ class Session:
         if len(cre) and "silhouette" in self.settings.kinds:
             sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
         base = self.settings.step * f["cell"][ids]          # the seed's scale sets its trace's step
+        needs = np.where(kinds == KIND_ID["crease"], 2, 1)
+        later = int(needs[valid].sum())          # agents the seeds still to start need, one way
         for i in np.flatnonzero(valid):
-            k = int(kinds[i])
+            k, need = int(kinds[i]), int(needs[i])
+            later -= need
             if self.traced.near(k, X[i], base[i], None, n=n[i]) is not None:
                 continue
-            need = 2 if k == KIND_ID["crease"] else 1
-            # a task each way from the seed where agents are free for both: an outline
-            # between two seeds is then traced from both ends at once, in half the
-            # iterations; otherwise one task goes forwards, then backwards
-            paired = len(self.free) >= 2 * need
+            # a task each way from the seed where agents are free for both, after every
+            # seed taken has its first (a seed left open may be consumed by a trace that
+            # crosses its bracket on a neighbouring outline): an outline between two
+            # seeds is then traced from both ends at once, in half the iterations;
+            # otherwise one task goes forwards, then backwards
+            paired = len(self.free) - later >= 2 * need
             tid = len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration
             for phase in ("fwd", "bwd") if paired else ("fwd",):
                 agents = tuple(self.free.pop() for _ in range(need))
