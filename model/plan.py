@@ -5,9 +5,9 @@ primitives below them, flattens nested operators of one kind and gathers the pri
 children of each blend, union and ricci into vectorised :class:`~.groups.Group`s (the
 subtracted children of a difference are pooled as their union, which is all a
 difference takes of them); at least three structurally identical operator subtrees of
-one union or blend (a train's wheels) become one :class:`~.stack.Stack`. The naive plan maps the tree one to one (every node, every
-point): it is the reference the optimised plan must equal, and the baseline of
-``bench/field.py``.
+one union or blend (a train's wheels) become one :class:`~.stack.Stack`. The naive
+plan maps the tree one to one (every node, every point): it is the reference the
+optimised plan must equal, and the baseline of ``bench/field.py``.
 
 Support bounds are conservative boxes, in each node's input coordinates, outside of
 which the node's field is exactly 0; value bounds ``[vlo, vhi]`` make that sound for

@@ -1,0 +1,160 @@
+"""Tracing tasks of a session: a seed's refinement starts them (one task each way
+along its outline where agents are free for both), every system iteration steps them
+together (tracer.trace_step), and a finished one hands its points to the session as
+an outline. Functions of the session (``self``), which holds the tasks."""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..blackboard.board import FEATURE_KINDS, KIND_ID
+from . import crease_seeds
+from .outline import Outline
+from .tracer import refine_seeds, trace_step
+from .traced import SELF_GAP, consume_crossed
+
+
+@dataclass
+class Trace:
+    kind: int
+    agents: tuple
+    p: np.ndarray
+    t: np.ndarray
+    ref: np.ndarray
+    start: np.ndarray
+    start_t: np.ndarray
+    start_ref: np.ndarray
+    fwd: list = field(default_factory=list)
+    fwd_n: list = field(default_factory=list)
+    bwd: list = field(default_factory=list)
+    bwd_n: list = field(default_factory=list)
+    phase: str = "fwd"
+    closed: bool = False
+    h: float = 0.0              # current step: halved after a failed step, regrown after success
+    base: float = 0.0           # its full step: the session's, or a subdivided voxel's seed's
+    id: int = -1
+    sides: tuple = None         # a crease's last point, side directions and side facings
+    start_sides: tuple = None   # the same at its seed
+    paired: bool = False        # the other half (backwards from the seed) is its own task
+    start_n: np.ndarray = None  # the normal at its seed
+
+
+def start(self, ids):
+    """Refine the seeds ``ids`` (taken from the blackboard) and start a task on each
+    valid one that no traced outline passes."""
+    f = self.bb.feat
+    self.bb.consume(ids)
+    kinds = f["kind"][ids].astype(np.int64)
+    X, n, T, ref, A, B, valid = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
+                                             self.settings.crease_angle)
+    sides = {}
+    cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
+    if len(cre) and "silhouette" in self.settings.kinds:
+        sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
+    base = self.settings.step * f["cell"][ids]          # the seed's scale sets its trace's step
+    needs = np.where(kinds == KIND_ID["crease"], 2, 1)
+    later = int(needs[valid].sum())          # agents the seeds still to start need, one way
+    for i in np.flatnonzero(valid):
+        k, need = int(kinds[i]), int(needs[i])
+        later -= need
+        if self.traced.near(k, X[i], base[i], None, n=n[i]) is not None:
+            continue
+        # a task each way from the seed where agents are free for both, after every
+        # seed taken has its first (a seed left open may be consumed by a trace that
+        # crosses its bracket on a neighbouring outline): an outline between two
+        # seeds is then traced from both ends at once, in half the iterations;
+        # otherwise one task goes forwards, then backwards
+        paired = len(self.free) - later >= 2 * need
+        tid = len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration
+        for phase in ("fwd", "bwd") if paired else ("fwd",):
+            agents = tuple(self.free.pop() for _ in range(need))
+            tr = Trace(kind=k, agents=agents, p=X[i], t=T[i] if phase == "fwd" else -T[i], ref=ref[i],
+                       start=X[i], start_t=T[i], start_ref=ref[i], id=tid, h=float(base[i]),
+                       base=float(base[i]), phase=phase, paired=paired, start_n=n[i])
+            tr.sides = tr.start_sides = sides.get(i)
+            self.traces.append(tr)
+        self.traces[-1 - paired].fwd.append(X[i])
+        self.traces[-1 - paired].fwd_n.append(n[i])
+        self.traced.remember(k, X[i], tid, 0, n[i], base[i])
+
+
+def step(self):
+    """One trace step of every task; returns the blackboard rows the new points touched."""
+    if not self.traces:
+        return []
+    trs = self.traces
+    kinds = np.array([t.kind for t in trs])
+    P = np.array([t.p for t in trs])
+    T = np.array([t.t for t in trs])
+    ref = np.array([t.ref for t in trs])
+    h = np.array([t.h for t in trs])
+    base = np.array([t.base for t in trs])
+    nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.start_n for t in trs])
+    retry = h > base / 16                  # a failed step may still be halved
+    st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry)
+    X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
+    side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
+    rows = self.bb.add_samples(X, st.f, st.g, "path")
+    still = []
+    covered = []                           # trace points appended this iteration
+    for i, tr in enumerate(trs):
+        end = None
+        if not ok[i] and retry[i]:
+            tr.h *= 0.5                    # retry with a shorter step next iteration
+            still.append(tr)
+            continue
+        if not ok[i]:
+            end = "lost"
+        else:
+            mine = tr.fwd if tr.phase == "fwd" else tr.bwd
+            other_end = tr.start if tr.phase == "fwd" or not tr.fwd else tr.fwd[-1]
+            steps = len(tr.fwd) + len(tr.bwd)
+            arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
+            if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * tr.base:
+                end = "closed"
+            elif (hit := self.traced.near(tr.kind, X[i], tr.base, tr.id, arc, n[i])) is not None:
+                # an outline is here: stop short; come round onto its own seed, it closed
+                end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
+            elif steps >= self.settings.max_outline_steps:
+                end = "limit"
+            else:
+                mine.append(X[i])
+                (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
+                self.traced.remember(tr.kind, X[i], tr.id, arc, n[i], tr.base)
+                tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
+                tr.h = min(tr.base, 1.5 * tr.h)
+                covered.append(i)
+        if end is None:
+            still.append(tr)
+        elif end == "closed" and tr.phase == "fwd":
+            tr.closed = True
+            finish(self, tr)
+        elif end == "closed":
+            tr.closed = True
+            finish(self, tr)
+        elif tr.phase == "fwd" and not tr.paired and self.traced.near(tr.kind, tr.start, tr.base, tr.id,
+                                                                      n=tr.fwd_n[0]) is None:
+            tr.phase = "bwd"           # trace the other way from the seed
+            tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
+            tr.h = tr.base
+            tr.sides = tr.start_sides
+            still.append(tr)
+        else:
+            finish(self, tr)
+    self.traces = still
+    W = np.where((kinds == KIND_ID["crease"])[:, None], refn, np.cross(n, Tn))
+    W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
+    consume_crossed(self, kinds[covered], X[covered], n[covered], W[covered], base[covered])
+    if side_seeds:
+        a, b, cell = (np.array([x[i] for x in side_seeds]) for i in range(3))
+        self.bb.add_features(0.5 * (a + b), a, b, "silhouette", cell)
+    return [rows]
+
+
+def finish(self, tr):
+    """A task is done: its agents are free again and its points become an outline."""
+    pts = tr.bwd[::-1] + tr.fwd
+    nrm = tr.bwd_n[::-1] + tr.fwd_n
+    self.free.extend(tr.agents)
+    if pts:                    # even a single point: other traces stopped short of it
+        self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed,
+                                          tr.base))
