@@ -50,7 +50,18 @@ class Mesh:
 
 
 def surface_box(ev, res=48, pad_cells=1.5):
-    """Bounds of the solid f >= iso, from a res^3 sampling of the support box."""
+    """Bounds of the solid f >= iso, from a res^3 sampling of the support box; kept on
+    the evaluator (whose plan is fixed), so that placing a view and polygonising, or a
+    second run on one model, sample it once."""
+    memo = ev.__dict__.setdefault("_surface_boxes", {})
+    key = (int(res), float(pad_cells))
+    if key not in memo:
+        memo[key] = _surface_box(ev, res, pad_cells)
+    box = memo[key]
+    return None if box is None else (box[0].copy(), box[1].copy())
+
+
+def _surface_box(ev, res, pad_cells):
     lo, hi = ev.bounds
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi > lo)):
         return None

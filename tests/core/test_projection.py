@@ -97,3 +97,21 @@ def test_the_polygoniser_and_the_agents_project_through_it():
     newton(ev3, P3, f3, g3, steps=12, max_step=0.3)
     np.testing.assert_array_equal(R, P3)
     assert surf.ev.calls == ev3.calls
+
+
+def test_the_surface_box_is_sampled_once_per_evaluator():
+    """Placing a view and polygonising both ask for the surface box: the evaluator keeps
+    it (its plan is fixed), and callers get copies they may change."""
+    R = 1.5
+    ev = M.Evaluator(model_of({"type": "point", "center": [0.2, 0.0, -0.1], "radius": R}))
+    lo, hi = PG.surface_box(ev)
+    r = np.sqrt(1 - 0.5 ** (1 / 3)) * R                        # the sphere f = 0.5
+    assert np.all(lo <= [0.2 - r, -r, -0.1 - r]) and np.all(hi >= [0.2 + r, r, -0.1 + r])
+    assert np.all(hi - lo < 2 * r + 4 * (2 * R) / 47)           # padded by 1.5 of its 48 samples' cells
+    sampled = ev.stats.points
+    lo[:] = 0.0
+    lo2, hi2 = PG.surface_box(ev)
+    assert ev.stats.points == sampled                          # not sampled again
+    assert np.all(lo2 < 0.2 - r) and np.array_equal(hi2, hi)  # and unchanged by the caller's edit
+    PG.surface_box(ev, res=32)
+    assert ev.stats.points == sampled + 32 ** 3                # another sampling is its own
