@@ -111,7 +111,7 @@ class Surface:
             if len(live) == 0:
                 break
             x = X[live]
-            f, g, h = field_grad_hessian(self.ev, x)
+            f, g, h = field_grad_hessian(self.ev, x, forward=True)
             G[live], H[live] = g, h
             if self.view.eye is not None:
                 w = self.view.eye - x

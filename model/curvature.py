@@ -18,16 +18,26 @@ def hessian(ev, P, h=None):
     return field_grad_hessian(ev, P, h, centre=False)[2]
 
 
-def field_grad_hessian(ev, P, h=None, centre=True):
+def field_grad_hessian(ev, P, h=None, centre=True, forward=False):
     """Field, gradient and Hessian at P in one batched evaluation (the points and their
-    six offsets); with ``centre`` False only the offsets are evaluated (f, g None)."""
+    six offsets); with ``centre`` False only the offsets are evaluated (f, g None).
+    ``forward``: forward differences from the points themselves, three offsets instead
+    of six (error of order h instead of h^2: enough for a Newton step's Jacobian, whose
+    residuals are exact, not for curvature)."""
     P = as_points(P)
     h = HESSIAN_STEP * ev.scale if h is None else h
     n = len(P)
-    offs = np.concatenate([np.eye(3) * h, -np.eye(3) * h] + ([np.zeros((1, 3))] if centre else []))
+    if forward:
+        offs = np.concatenate([np.zeros((1, 3)), np.eye(3) * h])
+    else:
+        offs = np.concatenate([np.eye(3) * h, -np.eye(3) * h] + ([np.zeros((1, 3))] if centre else []))
     batch = (P[None, :, :] + offs[:, None, :]).reshape(-1, 3)
     f, g = ev.field_grad(batch)
     g = g.reshape(len(offs), n, 3)
+    if forward:
+        H = (g[1:] - g[:1]).transpose(1, 0, 2) / h          # H[n, i, j] = d g_j / d x_i
+        H = 0.5 * (H + H.transpose(0, 2, 1))
+        return f[:n], g[0], H
     H = (g[:3] - g[3:6]).transpose(1, 0, 2) / (2 * h)    # H[n, i, j] = d g_j / d x_i
     H = 0.5 * (H + H.transpose(0, 2, 1))
     if not centre:

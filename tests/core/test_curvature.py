@@ -67,3 +67,30 @@ def test_torus_curvature_everywhere():
     np.testing.assert_allclose(c["k2"], np.minimum(k_tube, k_ring), rtol=1e-6, atol=1e-6)
     inner = np.cos(V) < -0.99
     assert np.all(c["gauss"][inner] < 0) and np.all(c["gauss"][np.cos(V) > 0.99] > 0)
+
+
+def test_forward_difference_hessian_for_newton_steps():
+    """The silhouette corrector's Hessian: forward differences of the analytic gradient,
+    four points per point (the central one, seven), error of the order of the step."""
+    from blobtree_ink.model.curvature import field_grad_hessian
+    R = 2.0
+    C = np.array([0.3, -0.2, 0.1])
+    ev = ev_of({"type": "point", "center": list(C), "radius": R})
+    P = C + KISO * R * unit_dirs(50)
+    before = ev.stats.points
+    f, g, H = field_grad_hessian(ev, P, forward=True)
+    assert ev.stats.points - before == 4 * len(P)
+    f0, g0 = ev.field_grad(P)
+    np.testing.assert_array_equal(f, f0)
+    np.testing.assert_array_equal(g, g0)
+    # f = (1 - d2/R^2)^3: H = -6/R^2 [u^2 I - 4/R^2 u V V^T], u = 1 - d2/R^2, V = P - C
+    V = P - C
+    u = 1 - np.einsum("ij,ij->i", V, V) / R ** 2
+    uu = u[:, None, None]
+    exact = -6 / R ** 2 * (uu ** 2 * np.eye(3) - 4 / R ** 2 * uu * V[:, :, None] * V[:, None, :])
+    _, _, Hc = field_grad_hessian(ev, P)
+    step = 1e-5 * ev.scale
+    assert np.abs(Hc - exact).max() < 1e-8
+    err = np.abs(H - exact).max()
+    assert 0.1 * step < err < 10 * step                  # first order in the step (1.3 step)
+    np.testing.assert_allclose(H, H.transpose(0, 2, 1))
