@@ -95,7 +95,7 @@ class Surface:
         on the surface, on the silhouette, in the plane through each predicted point Q
         across its tangent T (v: towards the eye, unnormalised for a perspective view).
         Each iteration is one batched evaluation of field, gradient and Hessian (the
-        Hessian by central differences of the analytic gradient: seven points per point).
+        Hessian by forward differences of the analytic gradient: four points per point).
         Returns X, the gradient and Hessian of its last iteration, the silhouette's
         tangent there (grad f x grad(grad f . v), turned along T: the next step's
         direction), and whether each point converged (the last step below ``tol``)
