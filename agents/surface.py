@@ -13,6 +13,7 @@ from ..model.projection import newton
 
 SIL, CREASE, CURV = 0, 1, 2
 CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bracket off the estimate
+WIDE_NUDGE = 0.25            # ... and this much after an estimate that left the bracket above 0.7
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 NEWTON_ITERS = 6             # Newton iterations of a silhouette corrector before it gives up
@@ -272,16 +273,20 @@ class Surface:
             u = np.where(jump[live], 0.5, a / np.where(a - b == 0, 1.0, a - b))
             u = np.clip(u, 0.02, 0.98)
             trial = A[live] + u[:, None] * (B[live] - A[live])
-            jl = np.flatnonzero(jump[live] & estimate_ok[live])
+            jl = np.flatnonzero(jump[live])
             extra = trial[:0]
             if len(jl):
                 # a crease: the estimate from the two tangent planes, nudged a little
-                # towards each end, two trial points (one per side, one batch)
+                # towards each end, two trial points (one per side, one batch); after
+                # an estimate that left the bracket above 0.7 of its width (off by more
+                # than the small nudge: sheets curved at the bracket's scale), by a
+                # quarter of the width
                 j = live[jl]
-                estimated[live] = False
-                estimated[j] = True
                 X = _crease_estimate(A[j], B[j], self.normals(gA[j]), self.normals(gB[j]), trial[jl])
-                eps = CREASE_NUDGE * np.linalg.norm(B[j] - A[j], axis=1)[:, None]
+                estimated[live] = False
+                estimated[j] = estimate_ok[j]
+                nudge = np.where(estimate_ok[j], CREASE_NUDGE, WIDE_NUDGE)
+                eps = nudge[:, None] * np.linalg.norm(B[j] - A[j], axis=1)[:, None]
                 trial[jl] = X + eps * unit(A[j] - X)
                 extra = X + eps * unit(B[j] - X)
             m = len(trial)
@@ -289,8 +294,11 @@ class Surface:
                                      anchor=np.concatenate([A[live], A[live[jl]]]))
             rows = np.concatenate([live, live[jl]])
             sM = self.signs(kinds[rows], M, gM, ref[rows])
-            M2, gM2, sM2, rows2 = M[m:], gM[m:], sM[m:], rows[m:]
-            M, gM, sM = M[:m], gM[:m], sM[:m]
+            # a crease trial point whose projection did not settle on the surface (near a
+            # sharp wedge's edge Newton can stall between the sheets) moves no end
+            on = np.abs(fM - self.iso) <= 1e-12 * max(self.iso, 1.0)
+            M2, gM2, sM2, rows2, on2 = M[m:], gM[m:], sM[m:], rows[m:], on[m:]
+            M, gM, sM, on = M[:m], gM[:m], sM[:m], on[:m]
             # a smooth crossing is found when its signed quantity vanishes (to 1e-11;
             # n.v is a cosine, mean curvature is scaled by the model's size)
             hit = ~jump[live] & (np.abs(sM) * np.where(kinds[live] == CURV, self.scale, 1.0) < 1e-11)
@@ -298,18 +306,19 @@ class Surface:
                 ih = live[hit]
                 A[ih], gA[ih], B[ih], gB[ih] = M[hit], gM[hit], M[hit], gM[hit]
                 keep = ~hit
-                live, M, gM, sM = live[keep], M[keep], gM[keep], sM[keep]
+                live, M, gM, sM, on = live[keep], M[keep], gM[keep], sM[keep], on[keep]
                 if len(live) == 0:
                     break
+            moves = on | ~jump[live]
             sideA = (sM > 0) == (sA[live] > 0)
-            ia, ib = live[sideA], live[~sideA]
-            A[ia], gA[ia], sA[ia] = M[sideA], gM[sideA], sM[sideA]
-            B[ib], gB[ib], sB[ib] = M[~sideA], gM[~sideA], sM[~sideA]
+            ia, ib = live[sideA & moves], live[~sideA & moves]
+            A[ia], gA[ia], sA[ia] = M[sideA & moves], gM[sideA & moves], sM[sideA & moves]
+            B[ib], gB[ib], sB[ib] = M[~sideA & moves], gM[~sideA & moves], sM[~sideA & moves]
             if len(rows2):
                 # the second trial point: it replaces the end of its side where it narrows the bracket
                 sa2 = (sM2 > 0) == (sA[rows2] > 0)
-                narrowA = sa2 & (np.linalg.norm(M2 - B[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
-                narrowB = ~sa2 & (np.linalg.norm(M2 - A[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
+                narrowA = on2 & sa2 & (np.linalg.norm(M2 - B[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
+                narrowB = on2 & ~sa2 & (np.linalg.norm(M2 - A[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
                 ra, rb = rows2[narrowA], rows2[narrowB]
                 A[ra], gA[ra], sA[ra] = M2[narrowA], gM2[narrowA], sM2[narrowA]
                 B[rb], gB[rb], sB[rb] = M2[narrowB], gM2[narrowB], sM2[narrowB]
@@ -323,32 +332,42 @@ class Surface:
                 valid[live[open_]] = False
         X, gX = A.copy(), gA.copy()
         if finish is not None:
-            self._finish_creases(np.flatnonzero(jump & valid), A, gA, B, gB, tol, X, gX)
+            rest = self._finish_creases(np.flatnonzero(jump & valid), A, gA, B, gB, tol, X, gX)
+            if len(rest):
+                # no tangent-plane point to trust there: bisected on down to tol
+                ends = (A[rest], gA[rest], self.signs(kinds[rest], A[rest], gA[rest], ref[rest]),
+                        B[rest], gB[rest], self.signs(kinds[rest], B[rest], gB[rest], ref[rest]))
+                out = self.bisect(kinds[rest], None, None, ref[rest], tol, iters, crease_angle, ends=ends)
+                for arr, val in zip((X, gX, A, B, valid), (out[0], out[1], out[2], out[3], out[6])):
+                    arr[rest] = val
         return X, gX, A, B, self.normals(gA), self.normals(gB), valid
 
     def _finish_creases(self, rows, A, gA, B, gB, tol, X, gX):
         """Crease crossings (X, gX, in place) of narrow brackets still wider than tol:
         where the ends' tangent planes meet, projected onto the surface (across a sharp
-        wedge up to WEDGE widths from the bracket's midpoint); a projection that moves
-        further than the bracket is wide keeps the end A."""
+        wedge up to WEDGE widths from the bracket's midpoint). Returns the rows where
+        there is no such point (parallel planes, or meeting too far off) or its
+        projection moves further than the bracket is wide."""
         w = np.linalg.norm(A[rows] - B[rows], axis=1)
         rows, w = rows[w > tol], w[w > tol]
         if len(rows) == 0:
-            return
+            return rows
         mid = 0.5 * (A[rows] + B[rows])
-        E = _crease_estimate(A[rows], B[rows], self.normals(gA[rows]), self.normals(gB[rows]), mid)
+        E, ok = _crease_estimate(A[rows], B[rows], self.normals(gA[rows]), self.normals(gB[rows]), mid, planes=True)
         P, f, g = self.project(E.copy(), steps=4, max_step=float(w.max()))
-        ok = (np.linalg.norm(P - E, axis=1) <= w) & (np.linalg.norm(P - mid, axis=1) <= WEDGE * w)
+        ok &= (np.linalg.norm(P - E, axis=1) <= w) & (np.linalg.norm(P - mid, axis=1) <= WEDGE * w)
         ok &= np.abs(f - self.iso) <= 1e-12 * max(self.iso, 1.0)
         X[rows[ok]], gX[rows[ok]] = P[ok], g[ok]
+        return rows[~ok]
 
 
-def _crease_estimate(A, B, nA, nB, mid):
+def _crease_estimate(A, B, nA, nB, mid, planes=False):
     """The point of the line where the ends' tangent planes meet that is nearest to the
     bracket's midpoint (on curved sheets it is off the crease by the square of the
     bracket's width); the midpoint where the planes are near parallel or the point is
     further from the midpoint than WEDGE bracket widths (across a sharp wedge, a hole's
-    rim, the planes meet beyond both ends)."""
+    rim, the planes meet beyond both ends). With ``planes``: the planes' point and
+    whether it is one (not the midpoint's fallback)."""
     c = np.einsum("ij,ij->i", nA, nB)
     det = 1.0 - c * c
     ra = np.einsum("ij,ij->i", nA, A - mid)
@@ -359,4 +378,6 @@ def _crease_estimate(A, B, nA, nB, mid):
     be = (rb - c * ra) / d
     X = mid + al[:, None] * nA + be[:, None] * nB
     far = np.linalg.norm(X - mid, axis=1) > WEDGE * np.linalg.norm(B - A, axis=1)
+    if planes:
+        return X, ok & ~far
     return np.where((ok & ~far)[:, None], X, mid)

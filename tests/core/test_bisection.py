@@ -173,3 +173,40 @@ def test_a_crease_bracket_that_never_narrows_stops():
                       crease_angle=math.radians(35))
     assert not res[-1][0]
     assert SeeSaw.calls <= 2 + 13
+
+
+def test_a_crease_estimate_off_by_more_than_its_nudge_is_nudged_by_a_quarter(monkeypatch):
+    """Where the sheets curve at the bracket's scale (a coarse grid's long brackets
+    across two balls' crease), the tangent planes' estimate is off by more than its
+    small nudge: both trial points land on one side and one end moves by the nudge
+    alone, and the bracket is given up before it converges. After such an estimate the
+    next trial points are a quarter of the bracket off it: twice as many brackets
+    converge, onto the analytic circle."""
+    import blobtree_ink.agents.surface as surface_module
+    c0, c1 = np.array([0.0, 0, 0]), np.array([0.9, 0.1, -0.1])
+    root = {"type": "union", "children": [{"type": "point", "center": list(c0), "radius": 1.5},
+                                          {"type": "point", "center": list(c1), "radius": 1.0}]}
+    s = Session(model_of(root), View(eye=(4, -6, 3)), Settings(resolution=8))
+    s.request("OUTLINES")
+    ids = s._open_seeds()
+    ids = ids[s.bb.feat["kind"][ids] == CREASE]
+    surf = Counting(s.ev, s.view)
+    a, _, ga = surf.project(s.bb.feat["a"][ids])
+    b, _, gb = surf.project(s.bb.feat["b"][ids])
+    tol = 1e-8 * s.ev.scale
+    kinds, ref = np.full(len(a), CREASE), surf.normals(ga) - surf.normals(gb)
+    finish = np.sqrt(tol * np.linalg.norm(a - b, axis=1))
+    runs = {}
+    for nudge in (surface_module.WIDE_NUDGE, surface_module.CREASE_NUDGE):
+        monkeypatch.setattr(surface_module, "WIDE_NUDGE", nudge)
+        surf.calls = 0
+        res = surf.bisect(kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle, finish=finish)
+        runs[nudge] = (surf.calls, res)
+    (calls, (X, _, _, _, _, _, valid)), (_, small) = runs.values()
+    assert valid.sum() >= 2 * small[-1].sum() and valid.sum() > 20
+    assert calls <= 10
+    centre, axis, rad = two_sphere_crease(c0, K * 1.5, c1, K * 1.0)
+    rel = X[valid] - centre
+    along = rel @ axis
+    assert np.abs(along).max() < 1e-6
+    assert np.abs(np.linalg.norm(rel - along[:, None] * axis, axis=1) - rad).max() < 1e-6
