@@ -317,8 +317,9 @@ class Surface:
             if len(rows2):
                 # the second trial point: it replaces the end of its side where it narrows the bracket
                 sa2 = (sM2 > 0) == (sA[rows2] > 0)
-                narrowA = on2 & sa2 & (np.linalg.norm(M2 - B[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
-                narrowB = on2 & ~sa2 & (np.linalg.norm(M2 - A[rows2], axis=1) < np.linalg.norm(A[rows2] - B[rows2], axis=1))
+                wide = np.linalg.norm(A[rows2] - B[rows2], axis=1)
+                narrowA = on2 & sa2 & (np.linalg.norm(M2 - B[rows2], axis=1) < wide)
+                narrowB = on2 & ~sa2 & (np.linalg.norm(M2 - A[rows2], axis=1) < wide)
                 ra, rb = rows2[narrowA], rows2[narrowB]
                 A[ra], gA[ra], sA[ra] = M2[narrowA], gM2[narrowA], sM2[narrowA]
                 B[rb], gB[rb], sB[rb] = M2[narrowB], gM2[narrowB], sM2[narrowB]

@@ -124,6 +124,7 @@ def test_a_narrow_crease_bracket_finishes_where_its_tangent_planes_meet():
     assert np.abs(along).max() < tol
     assert np.abs(np.linalg.norm(rel - along[:, None] * axis, axis=1) - rad).max() < tol
 
+
 def test_a_silhouette_bracket_across_a_crease_is_given_up_early():
     """n.v can change sign by jumping across a crease rather than passing through zero
     (here the rim of a pocket whose far wall faces away): such a bracket is no
