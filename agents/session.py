@@ -10,10 +10,10 @@ edges into approximate feature points. Each system iteration the manager assigns
 highest-priority tasks to free agents, every busy agent performs one action (a seed
 refinement, a trace step, an exploration step), reports, and the blackboard and the
 priorities of the touched neighbourhoods are updated. Once the polygon edges' seeds are
-traced, free agents explore the voxels the blackboard flags (corner normals that
-disagree) where no outline passes, for features smaller than a cell
-(``Settings.explore_detail``). Iterations count from zero after initialisation, as in
-the paper.
+taken and at most DETAIL_AFTER traces are left, free agents explore the voxels the
+blackboard flags (corner normals that disagree) where no outline passes, for features
+smaller than a cell (``Settings.explore_detail``). Iterations count from zero after
+initialisation, as in the paper.
 """
 import time
 from dataclasses import dataclass
@@ -33,6 +33,7 @@ from .surface import Surface
 from .traced import TracedPoints
 
 REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
+DETAIL_AFTER = 4            # traces left when the detail phase may start
 
 
 @dataclass
@@ -116,10 +117,10 @@ class Session:
         self._starts = starts
 
     def _queue_detail(self):
-        """Once the polygon edges' seeds are traced: seed the silhouettes beside traced
-        ones (agents/beside.py), and explore the voxels the blackboard flags (corner
-        normals that disagree) that no traced outline passes through, in order of
-        priority, for outlines smaller than a grid cell."""
+        """Once the polygon edges' seeds are taken and few traces are left: seed the
+        silhouettes beside traced ones (agents/beside.py), and explore the voxels the
+        blackboard flags (corner normals that disagree) that no traced outline passes
+        through, in order of priority, for outlines smaller than a grid cell."""
         self._detail = explore.flagged_voxels(self)
         if not any(k == "OUTLINES" for k, _ in self.requests):
             return
@@ -204,8 +205,10 @@ class Session:
                 self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
             self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
         self.iteration += 1
-        idle = not (self.traces or self.explorers or self.explore_queue)
-        if self.settings.explore_detail and self._detail is None and idle and len(self._open_seeds()) == 0:
+        # the detail phase starts once the edge seeds are taken and only a few traces are
+        # left (a long outline's last steps take many cheap iterations)
+        quiet = len(self.traces) <= DETAIL_AFTER and not (self.explorers or self.explore_queue)
+        if self.settings.explore_detail and self._detail is None and quiet and len(self._open_seeds()) == 0:
             self._queue_detail()
         return True
 

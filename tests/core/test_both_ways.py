@@ -10,15 +10,20 @@ from blobtree_ink.blackboard.view import View
 from test_massris import K, check_on_surface, circle, coverage, model_of, polyline_samples
 
 
-def one_seed_run(agents):
+def one_seed_session(agents, explore_detail=False):
     """A sphere's silhouette from one seed: every other polygon-edge seed is withdrawn
     (and detail exploration is off), so that the whole circle is traced from it."""
     s = Session(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}), View(direction=(0, 0, 1)),
-                Settings(resolution=16, agents=agents, explore_detail=False))
+                Settings(resolution=16, agents=agents, explore_detail=explore_detail))
     s.request("OUTLINES")
     ids = s._open_seeds()
     assert len(ids) > 10 and np.all(s.bb.feat["kind"][ids] == KIND_ID["silhouette"])
     s.bb.consume(ids[1:])
+    return s
+
+
+def one_seed_run(agents):
+    s = one_seed_session(agents)
     s.run()
     assert s.done
     return s
@@ -38,3 +43,19 @@ def test_a_seed_traces_its_outline_both_ways_at_once():
     steps = 2 * np.pi * K / one.step_len
     assert abs(one.iteration - steps) < 4
     assert abs(both.iteration - steps / 2) < 4
+
+
+def test_the_detail_phase_starts_while_the_last_few_traces_run():
+    """Once the edge seeds are taken and at most DETAIL_AFTER traces are left, the
+    detail phase (silhouettes beside traced ones, flagged voxels explored) starts
+    beside them instead of after a long outline's last cheap iterations."""
+    from blobtree_ink.agents.session import DETAIL_AFTER
+    s = one_seed_session(agents=100, explore_detail=True)
+    s.step()
+    assert 0 < len(s.traces) <= DETAIL_AFTER and s._detail is not None
+    s.run()
+    assert s.done
+    (o,) = [o for o in s.outlines() if o.kind == "silhouette"]
+    assert o.closed
+    worst, covered = coverage(polyline_samples(o), circle(np.zeros(3), np.array([0, 0, 1.0]), K), 0.01 * K)
+    assert covered == 1.0, (worst, covered)
