@@ -25,10 +25,10 @@ class Counting(Surface):
         return super().project(P, *args, **kwargs)
 
 
-def crease_seed_brackets(root, eye):
+def crease_seed_brackets(root, eye, resolution=20):
     """A session's crease seeds (polygon edges) as on-surface bracket ends, with a
     counting surface on its evaluator."""
-    s = Session(model_of(root), View(eye=eye), Settings(resolution=20))
+    s = Session(model_of(root), View(eye=eye), Settings(resolution=resolution))
     s.request("OUTLINES")
     ids = s._open_seeds()
     ids = ids[s.bb.feat["kind"][ids] == CREASE]
@@ -187,13 +187,7 @@ def test_a_crease_estimate_off_by_more_than_its_nudge_is_nudged_by_a_quarter(mon
     c0, c1 = np.array([0.0, 0, 0]), np.array([0.9, 0.1, -0.1])
     root = {"type": "union", "children": [{"type": "point", "center": list(c0), "radius": 1.5},
                                           {"type": "point", "center": list(c1), "radius": 1.0}]}
-    s = Session(model_of(root), View(eye=(4, -6, 3)), Settings(resolution=8))
-    s.request("OUTLINES")
-    ids = s._open_seeds()
-    ids = ids[s.bb.feat["kind"][ids] == CREASE]
-    surf = Counting(s.ev, s.view)
-    a, _, ga = surf.project(s.bb.feat["a"][ids])
-    b, _, gb = surf.project(s.bb.feat["b"][ids])
+    s, surf, a, ga, b, gb = crease_seed_brackets(root, (4, -6, 3), resolution=8)
     tol = 1e-8 * s.ev.scale
     kinds, ref = np.full(len(a), CREASE), surf.normals(ga) - surf.normals(gb)
     finish = np.sqrt(tol * np.linalg.norm(a - b, axis=1))
