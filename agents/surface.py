@@ -182,9 +182,12 @@ class Surface:
         crosses zero) take two trial points a little either side of where the ends'
         tangent planes meet (on curved sheets off the crease by the square of the
         bracket's width, so a bracket shrinks about twentyfold per iteration once both
-        land near it), or the midpoint after an estimate that did not shrink the
-        bracket below 0.7 (a wide bracket across a sharp wedge shrank by only about
-        0.86 per plain bisection: 40 iterations against 9). Returns the crossing (the
+        land near it; a wide bracket across a sharp wedge shrank by only about 0.86 per
+        plain bisection: 40 iterations against 9), and a quarter of the bracket either
+        side of it after an estimate that did not shrink the bracket below 0.7 (the
+        estimate was off by more than the small nudge; the midpoint it replaced could
+        widen a bracket across a sharp wedge). A crease trial point whose projection
+        does not settle on the surface moves no end. Returns the crossing (the
         final bracket end on the first end's side, on the surface to rounding), its
         gradient, the final bracket ends and their normals, and whether each bracket
         held a sign change. With ``crease_angle``, a crease bracket whose end normals
@@ -200,9 +203,9 @@ class Surface:
         projected onto the surface. That point is off the crease by about the sheets'
         curvature times the width squared: with ``finish`` = sqrt(tol * L) for sheets
         curved no tighter than radius L, by about ``tol``. The plain iterations crawl
-        down there (an estimate next to one end moves that end by its nudge alone, then
-        a midpoint halves: about 0.47 per two iterations), so this saves a crease's last
-        ten or so bisections, tiny batches each."""
+        down there (an estimate next to one end moves that end by its nudge alone), so
+        this saves a crease's last several bisections, tiny batches each. Where there
+        is no such point to trust, the bracket is bisected on down to ``tol``."""
         if ends is None:
             ends = self.ends(kinds, A, B, ref, anchor)
         A, gA, sA, B, gB, sB = (x.copy() for x in ends)
