@@ -125,9 +125,6 @@ def step(self):
                 covered.append(i)
         if end is None:
             still.append(tr)
-        elif end == "closed" and tr.phase == "fwd":
-            tr.closed = True
-            finish(self, tr)
         elif end == "closed":
             tr.closed = True
             finish(self, tr)

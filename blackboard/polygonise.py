@@ -53,11 +53,10 @@ def surface_box(ev, res=48, pad_cells=1.5):
     """Bounds of the solid f >= iso, from a res^3 sampling of the support box; kept on
     the evaluator (whose plan is fixed), so that placing a view and polygonising, or a
     second run on one model, sample it once."""
-    memo = ev.__dict__.setdefault("_surface_boxes", {})
-    key = (int(res), float(pad_cells))
-    if key not in memo:
-        memo[key] = _surface_box(ev, res, pad_cells)
-    box = memo[key]
+    key = ("surface_box", int(res), float(pad_cells))
+    if key not in ev.memo:
+        ev.memo[key] = _surface_box(ev, res, pad_cells)
+    box = ev.memo[key]
     return None if box is None else (box[0].copy(), box[1].copy())
 
 

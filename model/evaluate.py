@@ -47,6 +47,7 @@ class Evaluator:
         self.plan = compile_plan(model, optimize=optimize)
         self.prune = optimize
         self.stats = Stats()
+        self.memo = {}          # results that depend on the plan alone (e.g. the surface box)
         lo, hi = self.plan.lo, self.plan.hi
         self.bounds = (lo.copy(), hi.copy())
         finite = np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi >= lo)
