@@ -134,8 +134,8 @@ class Baseline:
 
     def _trace(self, k, a, b):
         kinds = np.array([k])
-        X, n, T, ref, A, B, valid = refine_seeds(self.surface, kinds, a[None], b[None], self.tol,
-                                                 self.crease_angle)
+        X, n, T, ref, A, B, valid, pins = refine_seeds(self.surface, kinds, a[None], b[None], self.tol,
+                                                       self.crease_angle)
         if not valid[0] or self._near(k, X[0], self.step_len):
             if not valid[0]:
                 self.rejected[k] = np.vstack([self.rejected[k], 0.5 * (a + b)[None]])
@@ -143,12 +143,13 @@ class Baseline:
         pts, nrm = [X[0]], [n[0]]
         for direction in (1.0, -1.0):
             p, t, r, h = X[0], direction * T[0], ref[0], self.step_len
+            pin, team = pins, (A, B)
             line, lnrm = [], []
             for _ in range(20000):
                 if self.deadline is not None and time.perf_counter() > self.deadline:
                     break            # out of this step's time: keep what was traced
                 st = trace_step(self.surface, kinds, p[None], t[None], r[None], np.array([h]), self.tol,
-                                self.crease_angle)
+                                self.crease_angle, pins=pin, team=team)
                 x, nn, tn, rn, ok = st.X, st.n, st.T, st.ref, st.ok
                 if not ok[0]:
                     if h > self.step_len / 16:
@@ -163,6 +164,7 @@ class Baseline:
                 line.append(x[0])
                 lnrm.append(nn[0])
                 p, t, r = x[0], tn[0], rn[0]
+                pin, team = st.pins, (st.A, st.B)
             if direction > 0:
                 pts, nrm = pts + line, nrm + lnrm
             else:

@@ -285,7 +285,7 @@ class Surface:
                 # than the small nudge: sheets curved at the bracket's scale), by a
                 # quarter of the width
                 j = live[jl]
-                X = _crease_estimate(A[j], B[j], self.normals(gA[j]), self.normals(gB[j]), trial[jl])
+                X = crease_estimate(A[j], B[j], self.normals(gA[j]), self.normals(gB[j]), trial[jl])
                 estimated[live] = False
                 estimated[j] = estimate_ok[j]
                 nudge = np.where(estimate_ok[j], CREASE_NUDGE, WIDE_NUDGE)
@@ -357,7 +357,7 @@ class Surface:
         if len(rows) == 0:
             return rows
         mid = 0.5 * (A[rows] + B[rows])
-        E, ok = _crease_estimate(A[rows], B[rows], self.normals(gA[rows]), self.normals(gB[rows]), mid, planes=True)
+        E, ok = crease_estimate(A[rows], B[rows], self.normals(gA[rows]), self.normals(gB[rows]), mid, planes=True)
         P, f, g = self.project(E.copy(), steps=4, max_step=float(w.max()))
         ok &= (np.linalg.norm(P - E, axis=1) <= w) & (np.linalg.norm(P - mid, axis=1) <= WEDGE * w)
         ok &= np.abs(f - self.iso) <= 1e-12 * max(self.iso, 1.0)
@@ -365,7 +365,7 @@ class Surface:
         return rows[~ok]
 
 
-def _crease_estimate(A, B, nA, nB, mid, planes=False):
+def crease_estimate(A, B, nA, nB, mid, planes=False):
     """The point of the line where the ends' tangent planes meet that is nearest to the
     bracket's midpoint (on curved sheets it is off the crease by the square of the
     bracket's width); the midpoint where the planes are near parallel or the point is

@@ -14,7 +14,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .surface import CREASE, SIL, unit
+from . import sheets
+from .surface import CREASE, SIL, WEDGE, crease_estimate, unit
 
 SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
                     # the Hessian, is off by this much of the crease angle crossed a crease
@@ -35,6 +36,7 @@ class Step(NamedTuple):
     f: np.ndarray
     g: np.ndarray
     ok: np.ndarray
+    pins: np.ndarray            # (m, 2, sites) the sides' branch records (creases; model.branches)
 
 
 def level_tangent(surface, kinds, X, n, ref, eps):
@@ -51,8 +53,14 @@ def level_tangent(surface, kinds, X, n, ref, eps):
 
 def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
-    tangent and a validity flag (a false alarm, or a smooth bend taken for a crease,
-    is not valid)."""
+    tangent, the crease ref (n_A - n_B), the bracket ends, a validity flag (a false
+    alarm, or a smooth bend taken for a crease, is not valid) and the ends' branch
+    records (m, 2, sites) (model.branches; creases only).
+
+    A crease bracket whose ends' records chose alike at every site is a smooth bend (no
+    max or min switches between them): invalid at once. The others go to the crease
+    point by Newton's method on the two sheets (agents.sheets), and to bisection where
+    that does not converge."""
     a0, b0 = np.asarray(a, float), np.asarray(b, float)
     m = len(a0)
     P, _, g = surface.project(np.concatenate([a0, b0]), anchor=np.concatenate([b0, a0]))   # one batch
@@ -86,6 +94,21 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
         nA[got] = nB[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         valid[got] = by_newton[got] = True
+    pins = np.full((m, 2, surface.ev.sites.count), -2, np.int32)
+    cr = np.flatnonzero((kinds == CREASE) & ((sA > 0) != (sB > 0)))
+    if len(cr):
+        pins[cr], sep = sheets.record_ends(surface, a[cr], b[cr])
+        by_newton[cr[~sep]] = True          # smooth between the ends: not valid
+        cr = cr[sep]
+        w = np.linalg.norm(b[cr] - a[cr], axis=1)
+        mid = 0.5 * (a[cr] + b[cr])
+        Tc = unit(np.cross(na[cr], nb[cr]))
+        X0 = crease_estimate(a[cr], b[cr], na[cr], nb[cr], mid)
+        Xc, gAc, gBc, gc, conv = sheets.crease_newton(surface, X0, mid, Tc, pins[cr], WEDGE * w, tol)
+        got = cr[conv]
+        X[got], gX[got], A[got], B[got] = Xc[conv], gc[conv], a[got], b[got]
+        nA[got], nB[got] = surface.normals(gAc[conv]), surface.normals(gBc[conv])
+        valid[got] = by_newton[got] = True
     # a crease bracket stops at sqrt(tol * its length): sheets curved no tighter than the
     # bracket is long then put the crossing from the tangent planes within tol
     finish = np.sqrt(tol * np.linalg.norm(b0 - a0, axis=1))
@@ -96,13 +119,14 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
                              finish=finish[rest])
         for arr, val in zip((X, gX, A, B, nA, nB, valid), out):
             arr[rest] = val
-    cre = np.flatnonzero((kinds == CREASE) & valid)
+    cre = np.flatnonzero((kinds == CREASE) & valid & ~by_newton)
     if len(cre):
         # creases: bisect once more from the narrowed bracket with its own side normals
         x2, g2, A2, B2, nA2, nB2, v2 = surface.bisect(kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol,
                                                       crease_angle=crease_angle, finish=finish[cre])
         X[cre[v2]], gX[cre[v2]], A[cre[v2]], B[cre[v2]] = x2[v2], g2[v2], A2[v2], B2[v2]
         nA[cre[v2]], nB[cre[v2]] = nA2[v2], nB2[v2]
+        pins[cre] = sheets.record_ends(surface, A[cre], B[cre])[0]     # the sides' records, nearer the crease
     cre = kinds == CREASE
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA, nB), -1, 1))
     # a crease must be a jump of the normal; a silhouette or curvature-sign crossing must
@@ -117,18 +141,23 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     valid &= ~bad
     fX, _ = surface.field_grad(X)
     valid &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)
-    return X, n, tangent, nA - nB, A, B, valid
+    return X, n, tangent, nA - nB, A, B, valid, pins
 
 
-def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=None):
+def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=None, pins=None, team=None):
     """One predictor-corrector step for each task (a :class:`Step`; ok False: lost).
 
     Silhouettes (given ``nP``, the normals at P) are corrected by Newton's method
-    (:meth:`Surface.silhouette_newton`, a few evaluations); the other kinds by
-    bracketing across the tangent and bisecting (tens of evaluations). A silhouette
-    step Newton does not settle, or that crossed a crease, is not ok where ``retry``
-    (the caller will retry it with a shorter step) and is bracketed otherwise."""
+    (:meth:`Surface.silhouette_newton`, a few evaluations), and so are creases whose
+    team has its sides' branch records (``pins``, (m, 2, sites)) and positions
+    (``team``: (A, B), which way is which side) (agents.sheets); the others by
+    bracketing across the tangent and bisecting (tens of evaluations), a crease's new
+    records taken at its bracket's ends. A silhouette step Newton does not settle, or
+    that crossed a crease, is not ok where ``retry`` (the caller will retry it with a
+    shorter step) and is bracketed otherwise; a crease step the sheets' Newton does
+    not settle is bracketed."""
     m = len(P)
+    pins = np.full((m, 2, surface.ev.sites.count), -2, np.int32) if pins is None else pins.copy()
     X = np.zeros((m, 3))
     A_out, B_out = np.zeros((m, 3)), np.zeros((m, 3))
     nA_out, nB_out = np.zeros((m, 3)), np.zeros((m, 3))
@@ -148,6 +177,21 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
         nA_out[got] = nB_out[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         found[got] = newton[got] = True
+    cre = np.flatnonzero(kinds == CREASE)
+    if len(cre) and team is not None:
+        cre = cre[sheets.apart(pins[cre])]
+    else:
+        cre = cre[:0]
+    if len(cre):
+        Q = P[cre] + h[cre, None] * T[cre]
+        Xc, gA, gB, _, conv = sheets.crease_newton(surface, Q, Q, T[cre], pins[cre], 2.0 * h[cre], tol)
+        got = cre[conv]
+        nA, nB = surface.normals(gA[conv]), surface.normals(gB[conv])
+        X[got], nA_out[got], nB_out[got] = Xc[conv], nA, nB
+        A_out[got], B_out[got] = sheets.side_points(Xc[conv], nA, nB, team[1][got] - team[0][got], 0.05 * h[got])
+        tc = unit(np.cross(nA, nB))
+        tangent[got] = np.where(np.einsum("ij,ij->i", tc, T[got])[:, None] < 0, -tc, tc)
+        found[got] = newton[got] = True
     todo = ~found
     if len(sil) and retry is not None:
         todo[sil] &= ~retry[sil]
@@ -157,6 +201,9 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
                                                  tol, crease_angle)
         X[rest], A_out[rest], B_out[rest], nA_out[rest], nB_out[rest] = Xb, Ab, Bb, nAb, nBb
         found[rest] = fb
+        cb = rest[fb & (kinds[rest] == CREASE)]
+        if len(cb):
+            pins[cb] = sheets.record_ends(surface, A_out[cb], B_out[cb])[0]
     lost = ~found
     X[lost] = P[lost]          # not moved: evaluated at a known surface point
     ok = found.copy()
@@ -179,7 +226,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     Tn = np.where(newton[:, None], tangent, unit(step))
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
-    return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok)
+    return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok, pins)
 
 
 def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):

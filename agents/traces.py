@@ -36,6 +36,10 @@ class Trace:
     start_sides: tuple = None   # the same at its seed
     paired: bool = False        # the other half (backwards from the seed) is its own task
     start_n: np.ndarray = None  # the normal at its seed
+    pins: np.ndarray = None     # a crease team's branch records, side A and side B (agents.sheets)
+    team: tuple = None          # the team's side positions (A, B) at its last point
+    start_pins: np.ndarray = None
+    start_team: tuple = None
 
 
 def start(self, ids):
@@ -44,8 +48,8 @@ def start(self, ids):
     f = self.bb.feat
     self.bb.consume(ids)
     kinds = f["kind"][ids].astype(np.int64)
-    X, n, T, ref, A, B, valid = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
-                                             self.settings.crease_angle)
+    X, n, T, ref, A, B, valid, pins = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
+                                                   self.settings.crease_angle)
     sides = {}
     cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
     if len(cre) and "silhouette" in self.settings.kinds:
@@ -71,6 +75,8 @@ def start(self, ids):
                        start=X[i], start_t=T[i], start_ref=ref[i], id=tid, h=float(base[i]),
                        base=float(base[i]), phase=phase, paired=paired, start_n=n[i])
             tr.sides = tr.start_sides = sides.get(i)
+            tr.pins = tr.start_pins = pins[i]
+            tr.team = tr.start_team = (A[i], B[i])
             self.traces.append(tr)
         self.traces[-1 - paired].fwd.append(X[i])
         self.traces[-1 - paired].fwd_n.append(n[i])
@@ -90,7 +96,9 @@ def step(self):
     base = np.array([t.base for t in trs])
     nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.start_n for t in trs])
     retry = h > base / 16                  # a failed step may still be halved
-    st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry)
+    pins = np.array([t.pins for t in trs])
+    team = tuple(np.array([t.team[k] for t in trs]) for k in (0, 1))
+    st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry, pins, team)
     X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
     side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
     rows = self.bb.add_samples(X, st.f, st.g, "path")
@@ -121,6 +129,7 @@ def step(self):
                 (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
                 self.traced.remember(tr.kind, X[i], tr.id, arc, n[i], tr.base)
                 tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
+                tr.pins, tr.team = st.pins[i], (st.A[i], st.B[i])
                 tr.h = min(tr.base, 1.5 * tr.h)
                 covered.append(i)
         if end is None:
@@ -134,6 +143,7 @@ def step(self):
             tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
             tr.h = tr.base
             tr.sides = tr.start_sides
+            tr.pins, tr.team = tr.start_pins, tr.start_team
             still.append(tr)
         else:
             finish(self, tr)

@@ -7,6 +7,7 @@ subtree only ever sees the points that can feel it.
 """
 import numpy as np
 
+from . import branches as BR
 from . import groups as G
 from . import primitives as PR
 from . import warps as W
@@ -59,7 +60,32 @@ class Evaluator:
     def field_grad(self, P):
         return self._run(P, True)
 
-    def _run(self, P, need_grad):
+    @property
+    def sites(self):
+        """The plan's decision sites (model.branches), numbered on first use."""
+        if "sites" not in self.memo:
+            self.memo["sites"] = BR.Sites(self.plan)
+        return self.memo["sites"]
+
+    def record(self, P):
+        """f, grad f and the branch record of each point: an (n, sites) int32 table
+        of the child every max/min chose (model.branches)."""
+        P = as_points(P)
+        table = np.full((len(P), self.sites.count), BR.NOT_REACHED, np.int32)
+        F, G = self._run(P, True, BR.Ctx(self.sites, table, None))
+        return F, G, table
+
+    def pinned(self, P, table):
+        """f and grad f with each point's choices pinned to its row of a record
+        (where the row reached a site; elsewhere as usual): the field of that row's
+        sheet, continued smoothly across the creases around it."""
+        P = as_points(P)
+        table = np.asarray(table, np.int32)
+        if table.shape != (len(P), self.sites.count):
+            raise ValueError(f"pins must be an ({len(P)}, {self.sites.count}) table, got {table.shape}")
+        return self._run(P, True, BR.Ctx(self.sites, table, None, pin=True))
+
+    def _run(self, P, need_grad, ctx=None):
         P = as_points(P)
         n = len(P)
         self.stats.points += n
@@ -67,16 +93,18 @@ class Evaluator:
         G = np.empty((n, 3)) if need_grad else None
         for a in range(0, n, CHUNK):
             cols = np.ascontiguousarray(P[a:a + CHUNK].T)      # (3, n) layout inside
-            f, g = evaluate(self.plan, cols, need_grad, self.prune, self.stats)
+            c = None if ctx is None else BR.Ctx(ctx.sites, ctx.table, np.arange(a, a + cols.shape[1]), pin=ctx.pin)
+            f, g = evaluate(self.plan, cols, need_grad, self.prune, self.stats, c)
             F[a:a + CHUNK] = f
             if need_grad:
                 G[a:a + CHUNK] = g.T
         return F, G
 
 
-def evaluate(node, P, need_grad, prune=True, stats=None):
-    """Field (n,) and gradient (3, n) of a plan node at P (3, n), as dense arrays."""
-    return _dense(_sparse(node, P, need_grad, prune, stats, None), P.shape[1], need_grad)
+def evaluate(node, P, need_grad, prune=True, stats=None, ctx=None):
+    """Field (n,) and gradient (3, n) of a plan node at P (3, n), as dense arrays
+    (``ctx``: a branch record or pins, model.branches)."""
+    return _dense(_sparse(node, P, need_grad, prune, stats, None, ctx), P.shape[1], need_grad)
 
 
 def _box(P):
@@ -91,7 +119,7 @@ def _node_box(node):
     return box
 
 
-def _sparse(node, P, need_grad, prune, stats, pbox):
+def _sparse(node, P, need_grad, prune, stats, pbox, ctx=None):
     """(idx, f, g): the node's field and gradient at the columns idx of P (None: all
     columns); every other column lies outside the node's support, where it is 0."""
     n = P.shape[1]
@@ -112,15 +140,16 @@ def _sparse(node, P, need_grad, prune, stats, pbox):
             if len(idx) == 0:
                 return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
             P = P[:, idx]
+            ctx = None if ctx is None else ctx.sub(idx)
     if isinstance(node, Group):
-        f, g = node.evaluate(P, need_grad, stats)
+        f, g = node.evaluate(P, need_grad, stats, ctx)
     elif isinstance(node, Stack):
-        sub, f, g = _stack(node, P, need_grad, stats)
+        sub, f, g = _stack(node, P, need_grad, stats, ctx)
         return (sub if idx is None else idx[sub]), f, g
     elif isinstance(node, Warp):
-        f, g = _warp(node, P, need_grad, prune, stats)
+        f, g = _warp(node, P, need_grad, prune, stats, ctx)
     else:
-        f, g = _op(node, P, need_grad, prune, stats)
+        f, g = _op(node, P, need_grad, prune, stats, ctx)
     return idx, f, g
 
 
@@ -129,7 +158,7 @@ _EMPTY_F = np.zeros(0)
 _EMPTY_G = np.zeros((3, 0))
 
 
-def _warp(node, P, need_grad, prune, stats):
+def _warp(node, P, need_grad, prune, stats, ctx):
     p = node.params
     if node.kind == "affine":
         Q, J = W.affine_map(P, p["A"], p["b"], need_grad)
@@ -139,7 +168,7 @@ def _warp(node, P, need_grad, prune, stats):
         Q, J = W.taper_map(P, p["rate"], need_grad)
     else:
         Q, J = W.bend_map(P, p["rate"], need_grad)
-    f, gq = evaluate(node.child, Q, need_grad, prune, stats)
+    f, gq = evaluate(node.child, Q, need_grad, prune, stats, ctx)
     if not need_grad:
         return f, None
     if J.ndim == 2:
@@ -147,24 +176,28 @@ def _warp(node, P, need_grad, prune, stats):
     return f, np.einsum("kin,kn->in", J, gq)
 
 
-def _op(node, P, need_grad, prune, stats):
+def _op(node, P, need_grad, prune, stats, ctx):
     n = P.shape[1]
     box = _box(P) if prune and n else None
-    kids = [_sparse(c, P, need_grad, prune, stats, box) for c in node.children]
-    return _combine(node, kids, n, need_grad)
+    kids = [_sparse(c, P, need_grad, prune, stats, box, ctx) for c in node.children]
+    return _combine(node, kids, n, need_grad, ctx)
 
 
-def _combine(node, kids, n, need_grad):
+def _combine(node, kids, n, need_grad, ctx=None):
     """An operator's field and gradient from its children's (idx, f, g)."""
     op = node.op
     if op == "blend":
         return _sum(kids, n, need_grad)
-    if op == "union":
-        return _extreme(kids, n, need_grad, np.greater)
-    if op == "intersection":
-        return _extreme(kids, n, need_grad, np.less)
+    if op in ("union", "intersection"):
+        better = np.greater if op == "union" else np.less
+        if ctx is not None:
+            return BR.extreme(kids, n, need_grad, better, ctx, node)
+        return _extreme(kids, n, need_grad, better)
     if op == "difference":
         A, gA = _dense(kids[0], n, need_grad)
+        if ctx is not None:
+            M, gM = BR.extreme(kids[1:], n, need_grad, np.greater, ctx, node, part=1)
+            return BR.difference(A, gA, M, gM, node.iso, ctx, node)
         M, gM = _extreme(kids[1:], n, need_grad, np.greater)
         B = 2 * node.iso - M
         first = A <= B
@@ -173,20 +206,26 @@ def _combine(node, kids, n, need_grad):
     return _ricci(kids, n, need_grad, node.n)
 
 
-def _stack(node, P, need_grad, stats):
+def _stack(node, P, need_grad, stats, ctx=None):
     """A Stack at P (3, n): (idx, f, g) over the points some member's box holds."""
     pp, kk = node.pairs(P)
     if len(pp) == 0:
         return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
-    f, g = _shape(node.shape, P[:, pp], kk, need_grad, stats)
+    f, g = _shape(node.shape, P[:, pp], kk, need_grad, stats, None if ctx is None else ctx.pairs(pp, kk))
     # pairs are sorted by point, then by member
     if node.reduce == "sum":
         starts = np.flatnonzero(np.diff(pp, prepend=-1))
         F = np.add.reduceat(f, starts)
         return pp[starts], F, (np.add.reduceat(g, starts, axis=1) if need_grad else None)
     # a union: the largest member value; a member whose box misses the point is 0 there
-    owners, F, win = G.segment_max(pp, f, need_grad)
+    owners, F, win = G.segment_max(pp, f, need_grad or ctx is not None)
     zero = (np.bincount(pp)[owners] < node.K) & (F < 0.0)
+    if ctx is not None:
+        n = P.shape[1]
+        w = np.full(n, BR.ZERO, np.int64)
+        w[owners] = np.where(zero, BR.ZERO, kk[win])
+        F, Gr = BR.pair_max(n, pp, kk, f, g, w, ctx, node)
+        return np.arange(n), F, Gr
     F[zero] = 0.0
     if not need_grad:
         return owners, F, None
@@ -195,7 +234,7 @@ def _stack(node, P, need_grad, stats):
     return owners, F, Gr
 
 
-def _shape(t, P, kk, need_grad, stats):
+def _shape(t, P, kk, need_grad, stats, ctx=None):
     """A stacked shape at pair points P (3, v), pair p belonging to member kk[p]: every
     position is evaluated densely (a member is 0 outside its support)."""
     v = P.shape[1]
@@ -204,9 +243,10 @@ def _shape(t, P, kk, need_grad, stats):
             return G.evaluate_pairs(t.prm, t.reduce, t.n, P, kk, None, v, need_grad, stats)
         pp = np.repeat(np.arange(v), t.m)
         idx = (kk * t.m)[pp] + np.tile(np.arange(t.m), v)
-        return G.evaluate_pairs(t.prm, t.reduce, t.n, np.repeat(P, t.m, axis=1), idx, pp, v, need_grad, stats)
-    kids = [(None, *_shape(c, P, kk, need_grad, stats)) for c in t.children]
-    return _combine(t, kids, v, need_grad)
+        return G.evaluate_pairs(t.prm, t.reduce, t.n, np.repeat(P, t.m, axis=1), idx, pp, v, need_grad, stats,
+                                ctx, t)
+    kids = [(None, *_shape(c, P, kk, need_grad, stats, ctx)) for c in t.children]
+    return _combine(t, kids, v, need_grad, ctx)
 
 
 def _dense(kid, n, need_grad):

@@ -77,24 +77,32 @@ class Group:
         pi = g["items"][local]
         return pp, pi, counts
 
-    def evaluate(self, P, need_grad, stats=None):
+    def evaluate(self, P, need_grad, stats=None, ctx=None):
         pp, pi, counts = self.pairs(P)
         # pairs are sorted by point: repeating columns is cheaper than gathering them;
         # pairs beyond a primitive's radius just give 0 (no compaction pass)
         Q = P if pi is None else np.repeat(P, counts, axis=1)
-        return evaluate_pairs(self.prm, self.reduce, self.n, Q, pi, pp, P.shape[1], need_grad, stats)
+        return evaluate_pairs(self.prm, self.reduce, self.n, Q, pi, pp, P.shape[1], need_grad, stats, ctx, self)
 
 
-def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None):
+def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx=None, node=None):
     """The kernels of (point, member) pairs reduced per point: Q (3, pairs) holds each
     pair's point, idx its member (None: the group's only member), pp its point among n
-    (sorted; None: one pair per point, nothing to reduce)."""
+    (sorted; None: one pair per point, nothing to reduce). ``ctx``: a branch record or
+    pins (model.branches) for a union's choice of member, at site ``node``."""
     if stats is not None:
         stats.pairs += Q.shape[1]
     d2, V = PR.dist2(Q, prm, idx)
     f, g = PR.kernel(d2, V, prm, idx, need_grad)
     if pp is None:
         return _single(f, g, reduce)
+    if ctx is not None and reduce == "max":
+        from .branches import ZERO, pair_max
+        w = np.full(n, ZERO, np.int64)
+        if len(pp):
+            owners, seg_max, win = segment_max(pp, f)
+            w[owners] = np.where(seg_max > 0, idx[win], ZERO)
+        return pair_max(n, pp, idx, f, g, w, ctx, node)
     return _reduce(reduce, n_exp, n, pp, f, g)
 
 
