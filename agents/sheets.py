@@ -31,6 +31,21 @@ def apart(pins):
     return np.any((a != b) & (a >= -1) & (b >= -1), axis=1)
 
 
+def no_silhouette(surface, a, b, sa, sb, pins):
+    """Silhouette brackets a-b (n.v of signs sa at a, sb at b) whose ends lie on two
+    sheets (``pins``): True where each sheet, continued to the other end, keeps its n.v
+    sign there, so that neither turns away from the eye between the ends (the sign
+    change is the crease's jump). A sheet without a gradient at the other end (beyond its
+    support) tells nothing: False."""
+    m = len(a)
+    P = np.concatenate([b, a])                  # sheet A at b, sheet B at a
+    _, g = surface.ev.pinned(P, np.concatenate([pins[:, 0], pins[:, 1]]))
+    nv = np.einsum("ij,ij->i", surface.normals(g), surface.view.towards_eye(P))
+    seen = np.einsum("ij,ij->i", g, g) > 0
+    keeps = seen & ((nv > 0) == np.concatenate([sa > 0, sb > 0]))
+    return keeps[:m] & keeps[m:]
+
+
 def crease_newton(surface, X0, Q, T, pins, reach, tol):
     """Crease points from X0 on the meeting of the sheets pinned by ``pins`` (m, 2,
     sites), in the planes through Q across T. Returns X, the two sheets' gradients

@@ -1,6 +1,8 @@
 """Points of the outlines traced so far, hashed by cells of one trace step: which
 outline is near a point (to start no second trace on it, to stop a trace that meets
 another, or closes on itself); and which open seeds new trace points cover."""
+import math
+
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
@@ -14,15 +16,19 @@ class TracedPoints:
         self.cos_sheet = np.cos(0.5 * crease_angle)
         self.table = {k: {} for k in range(len(FEATURE_KINDS))}   # kind -> cell -> entries
 
-    def _cell(self, p):
-        return tuple(np.floor(p / self.step_len).astype(int))
+    def _cell(self, x, y, z):
+        s = self.step_len
+        return math.floor(x / s), math.floor(y / s), math.floor(z / s)
 
     def remember(self, kind, p, tid, arc, n, step=None):
         """A traced point, with its outline's id, its step index along the outline
         (0 the seed, + forwards, - backwards), its normal and its outline's step (default
-        the session's; at most that)."""
+        the session's; at most that). Kept as Python floats: :meth:`near` runs once per
+        task and iteration, and scalar numpy arithmetic cost it most of its time."""
         step = self.step_len if step is None else step
-        self.table[kind].setdefault(self._cell(p), []).append((tid, p, arc, n, step))
+        q = (float(p[0]), float(p[1]), float(p[2]))
+        qn = (float(n[0]), float(n[1]), float(n[2]))
+        self.table[kind].setdefault(self._cell(*q), []).append((tid, q, arc, qn, float(step)))
 
     def points(self):
         """Every traced point, of every kind, as an (m, 3) array."""
@@ -40,17 +46,24 @@ class TracedPoints:
         point of an outline traced with longer steps counts within 0.6 of its step:
         points of a smaller scale's trace that runs along it are that close to it."""
         sheet = n is not None and kind != KIND_ID["crease"]
-        c = self._cell(p)
+        px, py, pz = float(p[0]), float(p[1]), float(p[2])
+        if sheet:
+            nx, ny, nz = float(n[0]), float(n[1]), float(n[2])
+        cx, cy, cz = self._cell(px, py, pz)
         table = self.table[kind]
+        cos = self.cos_sheet
+        radius = float(radius)
         for dx in (-1, 0, 1):
             for dy in (-1, 0, 1):
                 for dz in (-1, 0, 1):
-                    for tid, q, qa, qn, qs in table.get((c[0] + dx, c[1] + dy, c[2] + dz), ()):
+                    for tid, q, qa, qn, qs in table.get((cx + dx, cy + dy, cz + dz), ()):
                         if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
                             continue
-                        if sheet and qn @ n < self.cos_sheet:
+                        if sheet and qn[0] * nx + qn[1] * ny + qn[2] * nz < cos:
                             continue
-                        if np.linalg.norm(q - p) < max(radius, 0.6 * qs):
+                        r = max(radius, 0.6 * qs)
+                        ex, ey, ez = q[0] - px, q[1] - py, q[2] - pz
+                        if ex * ex + ey * ey + ez * ez < r * r:
                             return (tid, qa)
         return None
 

@@ -95,11 +95,19 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
         tangent[got] = Ts[conv]
         valid[got] = by_newton[got] = True
     pins = np.full((m, 2, surface.ev.sites.count), -2, np.int32)
+    cand = np.flatnonzero(((kinds == CREASE) | (kinds == SIL) & ~by_newton) & ((sA > 0) != (sB > 0)))
+    sep = np.zeros(m, bool)
+    if len(cand):
+        pins[cand], sep[cand] = sheets.record_ends(surface, a[cand], b[cand])     # one batch
+    silx = np.flatnonzero((kinds == SIL) & sep & ~by_newton)
+    if len(silx):
+        # a silhouette bracket across a crease where neither sheet's n.v changes sign
+        # between the ends: the sign change is the crease's, no silhouette (not valid)
+        by_newton[silx[sheets.no_silhouette(surface, a[silx], b[silx], sA[silx], sB[silx], pins[silx])]] = True
     cr = np.flatnonzero((kinds == CREASE) & ((sA > 0) != (sB > 0)))
     if len(cr):
-        pins[cr], sep = sheets.record_ends(surface, a[cr], b[cr])
-        by_newton[cr[~sep]] = True          # smooth between the ends: not valid
-        cr = cr[sep]
+        by_newton[cr[~sep[cr]]] = True      # smooth between the ends: not valid
+        cr = cr[sep[cr]]
         w = np.linalg.norm(b[cr] - a[cr], axis=1)
         mid = 0.5 * (a[cr] + b[cr])
         Tc = unit(np.cross(na[cr], nb[cr]))
