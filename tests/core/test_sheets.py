@@ -129,3 +129,29 @@ def test_creases_end_where_a_third_part_covers_their_sheets_meeting():
         vis = ring[np.linalg.norm(ring - C[k], axis=1) > r + 0.02]
         d = np.linalg.norm(vis[:, None] - pts[None], axis=2).min(axis=1)
         assert np.mean(d < 0.05 * r) > 0.97, (i, j, np.mean(d < 0.05 * r))
+
+
+def test_a_silhouette_bracket_across_a_crease_is_rejected_without_bisecting():
+    # two unioned spheres seen along their axis: n.v jumps from + to - across the crease
+    # circle (x = 0), while each sphere's own silhouette is its great circle x = -+0.6
+    from blobtree_ink import model as M
+    from blobtree_ink.agents.surface import SIL, Surface
+    root = {"type": "union", "children": [{"type": "point", "center": [-0.6, 0, 0], "radius": 1.5},
+                                          {"type": "point", "center": [0.6, 0, 0], "radius": 1.5}]}
+    ev = M.Evaluator(model_of(root))
+    surf = Surface(ev, View(direction=(-1, 0, 0)))
+    calls = counting(ev)
+    r = K * 1.5
+    t = np.linspace(0.3, 2.8, 12)
+    ring = np.stack([np.zeros_like(t), np.cos(t), np.sin(t)], axis=1)
+    yz = math.sqrt(r * r - 0.36)                         # the crease circle's radius
+    across = [(np.array([-0.05, 0, 0]) + yz * u, np.array([0.05, 0, 0]) + yz * u) for u in ring]
+    own = [(np.array([-0.65, 0, 0]) + r * u, np.array([-0.55, 0, 0]) + r * u) for u in ring]
+    a = np.array([p for p, _ in across + own])
+    b = np.array([q for _, q in across + own])
+    X, n, T, ref, A, B, valid, pins = TR.refine_seeds(surf, np.full(len(a), SIL), a, b, 1e-8 * ev.scale,
+                                                     math.radians(35))
+    assert not valid[:12].any() and valid[12:].all()
+    np.testing.assert_allclose(X[12:, 0], -0.6, atol=1e-9)   # on sphere A's great circle
+    # projection, records, the pinned sheets, silhouette Newton, checks: no bisection
+    assert calls[0] <= 16
