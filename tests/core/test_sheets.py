@@ -150,7 +150,7 @@ def test_a_silhouette_bracket_across_a_crease_is_rejected_without_bisecting():
     a = np.array([p for p, _ in across + own])
     b = np.array([q for _, q in across + own])
     X, n, T, ref, A, B, valid, pins = TR.refine_seeds(surf, np.full(len(a), SIL), a, b, 1e-8 * ev.scale,
-                                                     math.radians(35))
+                                                      math.radians(35))
     assert not valid[:12].any() and valid[12:].all()
     np.testing.assert_allclose(X[12:, 0], -0.6, atol=1e-9)   # on sphere A's great circle
     # projection, records, the pinned sheets, silhouette Newton, checks: no bisection
