@@ -15,6 +15,14 @@ import numpy as np
 from .surface import unit
 
 NEWTON_ITERS = 8
+MAX_SITES = 1024        # beyond this many decision sites a record (4 bytes per site and
+                        # point) costs more than it saves: creases are bisected instead
+
+
+def usable(surface):
+    """Whether the model's branch records are small enough to keep per crease team (a
+    model with no site at all has no crease: every crease candidate is a smooth bend)."""
+    return surface.ev.sites.count <= MAX_SITES
 
 
 def record_ends(surface, A, B):

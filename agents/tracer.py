@@ -94,8 +94,9 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
         nA[got] = nB[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         valid[got] = by_newton[got] = True
-    pins = np.full((m, 2, surface.ev.sites.count), -2, np.int32)
-    cand = np.flatnonzero(((kinds == CREASE) | (kinds == SIL) & ~by_newton) & ((sA > 0) != (sB > 0)))
+    use = sheets.usable(surface)
+    pins = np.full((m, 2, surface.ev.sites.count if use else 0), -2, np.int32)
+    cand = np.flatnonzero(((kinds == CREASE) | (kinds == SIL) & ~by_newton) & ((sA > 0) != (sB > 0)) & use)
     sep = np.zeros(m, bool)
     if len(cand):
         pins[cand], sep[cand] = sheets.record_ends(surface, a[cand], b[cand])     # one batch
@@ -104,7 +105,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
         # a silhouette bracket across a crease where neither sheet's n.v changes sign
         # between the ends: the sign change is the crease's, no silhouette (not valid)
         by_newton[silx[sheets.no_silhouette(surface, a[silx], b[silx], sA[silx], sB[silx], pins[silx])]] = True
-    cr = np.flatnonzero((kinds == CREASE) & ((sA > 0) != (sB > 0)))
+    cr = np.flatnonzero((kinds == CREASE) & ((sA > 0) != (sB > 0)) & use)
     if len(cr):
         by_newton[cr[~sep[cr]]] = True      # smooth between the ends: not valid
         cr = cr[sep[cr]]
@@ -134,7 +135,8 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
                                                       crease_angle=crease_angle, finish=finish[cre])
         X[cre[v2]], gX[cre[v2]], A[cre[v2]], B[cre[v2]] = x2[v2], g2[v2], A2[v2], B2[v2]
         nA[cre[v2]], nB[cre[v2]] = nA2[v2], nB2[v2]
-        pins[cre] = sheets.record_ends(surface, A[cre], B[cre])[0]     # the sides' records, nearer the crease
+        if use:
+            pins[cre] = sheets.record_ends(surface, A[cre], B[cre])[0]     # the sides' records, nearer the crease
     cre = kinds == CREASE
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA, nB), -1, 1))
     # a crease must be a jump of the normal; a silhouette or curvature-sign crossing must
@@ -165,7 +167,11 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     shorter step) and is bracketed otherwise; a crease step the sheets' Newton does
     not settle is bracketed."""
     m = len(P)
-    pins = np.full((m, 2, surface.ev.sites.count), -2, np.int32) if pins is None else pins.copy()
+    use = sheets.usable(surface)
+    if pins is None or not use:
+        pins = np.full((m, 2, surface.ev.sites.count if use else 0), -2, np.int32)
+    else:
+        pins = pins.copy()
     X = np.zeros((m, 3))
     A_out, B_out = np.zeros((m, 3)), np.zeros((m, 3))
     nA_out, nB_out = np.zeros((m, 3)), np.zeros((m, 3))
@@ -210,7 +216,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
         X[rest], A_out[rest], B_out[rest], nA_out[rest], nB_out[rest] = Xb, Ab, Bb, nAb, nBb
         found[rest] = fb
         cb = rest[fb & (kinds[rest] == CREASE)]
-        if len(cb):
+        if len(cb) and use:
             pins[cb] = sheets.record_ends(surface, A_out[cb], B_out[cb])[0]
     lost = ~found
     X[lost] = P[lost]          # not moved: evaluated at a known surface point

@@ -155,3 +155,19 @@ def test_a_silhouette_bracket_across_a_crease_is_rejected_without_bisecting():
     np.testing.assert_allclose(X[12:, 0], -0.6, atol=1e-9)   # on sphere A's great circle
     # projection, records, the pinned sheets, silhouette Newton, checks: no bisection
     assert calls[0] <= 16
+
+
+def test_a_model_with_too_many_sites_for_records_still_has_its_creases_bisected(monkeypatch):
+    from blobtree_ink.agents import sheets
+    monkeypatch.setattr(sheets, "MAX_SITES", 0)
+    bracketed = []
+    step = TR._bracket_step
+
+    def spy(surface, kinds, *a, **kw):
+        bracketed.append(int((kinds == CREASE).sum()))
+        return step(surface, kinds, *a, **kw)
+    monkeypatch.setattr(TR, "_bracket_step", spy)
+    s = run(model_of(spheres("union")), View(eye=(4, -6, 3)), resolution=20)
+    creases = [o for o in s.outlines() if o.kind == "crease"]
+    assert creases and sum(bracketed) > 20
+    assert off_circle(np.concatenate([o.points for o in creases]), *two_sphere_crease(C0, K * 1.5, C1, K * 1.2)) < 1e-6
