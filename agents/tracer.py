@@ -55,7 +55,8 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
     tangent, the crease ref (n_A - n_B), the bracket ends, a validity flag (a false
     alarm, or a smooth bend taken for a crease, is not valid) and the ends' branch
-    records (m, 2, sites) (model.branches; creases only).
+    records (m, 2, sites) (model.branches; taken for crease brackets and for silhouette
+    brackets Newton did not settle, NOT_REACHED elsewhere).
 
     A crease bracket whose ends' records chose alike at every site is a smooth bend (no
     max or min switches between them): invalid at once. The others go to the crease
