@@ -12,7 +12,7 @@ cannot have a crease between them: the field is smooth there.
 """
 import numpy as np
 
-from .surface import unit
+from .surface import newton_update, unit
 
 NEWTON_ITERS = 8
 MAX_SITES = 1024        # beyond this many decision sites a record (4 bytes per site and
@@ -78,20 +78,7 @@ def crease_newton(surface, X0, Q, T, pins, reach, tol):
         Tl = T[live]
         J = np.stack([ga, gb, Tl], axis=1)
         r = -np.stack([f[:k] - iso, f[k:] - iso, np.einsum("ij,ij->i", x - Q[live], Tl)], axis=1)
-        det = np.linalg.det(J)
-        size = np.prod(np.linalg.norm(J, axis=2), axis=1)
-        good = np.isfinite(det) & (np.abs(det) > 1e-6 * size)
-        dx = np.zeros((k, 3))
-        if good.any():
-            dx[good] = np.linalg.solve(J[good], r[good][:, :, None])[:, :, 0]
-        step = np.linalg.norm(dx, axis=1)
-        lim = 0.5 * reach[live]
-        dx *= np.where(step > lim, lim / np.maximum(step, 1e-300), 1.0)[:, None]
-        X[live] = x + dx
-        far = np.linalg.norm(X[live] - Q[live], axis=1) > reach[live]
-        done = good & (step <= tol) & ~far
-        ok[live[done]] = True
-        live = live[good & ~done & ~far & np.isfinite(step)]
+        live = newton_update(X, Q, live, J, r, reach, tol, ok)     # tangent sheets: singular
     rows = np.flatnonzero(ok)
     if len(rows):
         f, g[rows] = surface.field_grad(X[rows])

@@ -126,23 +126,8 @@ class Surface:
             J = np.stack([g, ds, Tl], axis=1)                                  # (k, 3, 3)
             r = -np.stack([f - self.iso, np.einsum("ij,ij->i", g, w),
                            np.einsum("ij,ij->i", x - Q[live], Tl)], axis=1)
-            # a (near) singular system: the silhouette turns along the view (a cusp) or
-            # the gradient vanishes; scale-free test on the rows' lengths
-            det = np.linalg.det(J)
-            size = np.prod(np.linalg.norm(J, axis=2), axis=1)
-            good = np.isfinite(det) & (np.abs(det) > 1e-6 * size)
-            dx = np.zeros((len(live), 3))
-            if good.any():
-                dx[good] = np.linalg.solve(J[good], r[good][:, :, None])[:, :, 0]
-            step = np.linalg.norm(dx, axis=1)
-            # damped: no step longer than half the reach
-            lim = 0.5 * reach[live]
-            dx *= np.where(step > lim, lim / np.maximum(step, 1e-300), 1.0)[:, None]
-            X[live] = x + dx
-            far = np.linalg.norm(X[live] - Q[live], axis=1) > reach[live]
-            done = good & (step <= tol) & ~far
-            ok[live[done]] = True
-            live = live[good & ~done & ~far & np.isfinite(step)]
+            # (near) singular: the silhouette turns along the view (a cusp), or the gradient vanishes
+            live = newton_update(X, Q, live, J, r, reach, tol, ok)
         return X, G, H, Tout, ok
 
     @staticmethod
@@ -363,6 +348,28 @@ class Surface:
         ok &= np.abs(f - self.iso) <= 1e-12 * max(self.iso, 1.0)
         X[rows[ok]], gX[rows[ok]] = P[ok], g[ok]
         return rows[~ok]
+
+
+def newton_update(X, Q, live, J, r, reach, tol, ok):
+    """One damped Newton step J dx = r (J: (k, 3, 3)) for the rows ``live`` of X, in
+    place: no step longer than half the row's reach. A row whose step was below tol is
+    done (``ok``, in place); one whose system is (near) singular (a scale-free test on
+    the rows' lengths), or that went further than its reach from Q, gives up. Returns
+    the rows still live."""
+    det = np.linalg.det(J)
+    size = np.prod(np.linalg.norm(J, axis=2), axis=1)
+    good = np.isfinite(det) & (np.abs(det) > 1e-6 * size)
+    dx = np.zeros((len(live), 3))
+    if good.any():
+        dx[good] = np.linalg.solve(J[good], r[good][:, :, None])[:, :, 0]
+    step = np.linalg.norm(dx, axis=1)
+    lim = 0.5 * reach[live]
+    dx *= np.where(step > lim, lim / np.maximum(step, 1e-300), 1.0)[:, None]
+    X[live] += dx
+    far = np.linalg.norm(X[live] - Q[live], axis=1) > reach[live]
+    done = good & (step <= tol) & ~far
+    ok[live[done]] = True
+    return live[good & ~done & ~far & np.isfinite(step)]
 
 
 def crease_estimate(A, B, nA, nB, mid, planes=False):

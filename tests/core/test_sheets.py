@@ -34,6 +34,18 @@ def counting(ev):
     return calls
 
 
+def spy_brackets(monkeypatch):
+    """A list that receives the number of crease rows of every bracketed trace step."""
+    bracketed = []
+    step = TR._bracket_step
+
+    def spy(surface, kinds, *a, **kw):
+        bracketed.append(int((kinds == CREASE).sum()))
+        return step(surface, kinds, *a, **kw)
+    monkeypatch.setattr(TR, "_bracket_step", spy)
+    return bracketed
+
+
 def off_circle(X, centre, axis, rad):
     rel = X - centre
     along = rel @ axis
@@ -76,13 +88,7 @@ def test_a_smooth_bend_taken_for_a_crease_is_rejected_without_bisecting():
 
 
 def test_a_crease_is_traced_by_newton_steps_alone(monkeypatch):
-    bracketed = []
-    step = TR._bracket_step
-
-    def spy(surface, kinds, *a, **kw):
-        bracketed.append(int((kinds == CREASE).sum()))
-        return step(surface, kinds, *a, **kw)
-    monkeypatch.setattr(TR, "_bracket_step", spy)
+    bracketed = spy_brackets(monkeypatch)
     s = run(model_of(spheres("difference")), View(eye=(4, -6, 3)), resolution=20)
     creases = [o for o in s.outlines() if o.kind == "crease"]
     assert creases and sum(len(o.points) for o in creases) > 40
@@ -160,13 +166,7 @@ def test_a_silhouette_bracket_across_a_crease_is_rejected_without_bisecting():
 def test_a_model_with_too_many_sites_for_records_still_has_its_creases_bisected(monkeypatch):
     from blobtree_ink.agents import sheets
     monkeypatch.setattr(sheets, "MAX_SITES", 0)
-    bracketed = []
-    step = TR._bracket_step
-
-    def spy(surface, kinds, *a, **kw):
-        bracketed.append(int((kinds == CREASE).sum()))
-        return step(surface, kinds, *a, **kw)
-    monkeypatch.setattr(TR, "_bracket_step", spy)
+    bracketed = spy_brackets(monkeypatch)
     s = run(model_of(spheres("union")), View(eye=(4, -6, 3)), resolution=20)
     creases = [o for o in s.outlines() if o.kind == "crease"]
     assert creases and sum(bracketed) > 20
