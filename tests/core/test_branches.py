@@ -94,3 +94,18 @@ def test_pins_of_the_wrong_shape_are_named():
     ev = ev_of({"type": "union", "children": [pt((0, 0, 0), 1.5), pt((0.8, 0, 0), 1.5)]})
     with pytest.raises(ValueError, match=r"pins must be an \(2, 1\) table, got \(1, 1\)"):
         ev.pinned(np.zeros((2, 3)), np.full((1, 1), NOT_REACHED))
+
+
+def test_a_record_longer_than_one_evaluation_chunk_keeps_every_points_row(monkeypatch):
+    from blobtree_ink.model import evaluate as E
+    monkeypatch.setattr(E, "CHUNK", 64)                 # 1000 points: 16 chunks
+    ev = ev_of({"type": "union", "children": [pt((0, 0, 0), 1.5), pt((0.8, 0, 0), 1.5)]})
+    x = np.linspace(-1.4, 2.2, 1000)
+    P = np.stack([x, 0.1 * np.ones_like(x), np.zeros_like(x)], axis=1)
+    f, g, rec = ev.record(P)
+    near = np.where(np.abs(P[:, 0]) < np.abs(P[:, 0] - 0.8), 0, 1)
+    inside = np.minimum(np.abs(P[:, 0]), np.abs(P[:, 0] - 0.8)) < 1.4
+    assert np.array_equal(rec[inside, 0], near[inside])
+    # every point pinned to the first sphere, across all chunks
+    fp, _ = ev.pinned(P, np.zeros((1000, 1), np.int32))
+    np.testing.assert_allclose(fp, kernel(P, (0, 0, 0), 1.5), atol=1e-15)
