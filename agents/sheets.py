@@ -15,7 +15,7 @@ import numpy as np
 from .surface import newton_update, unit
 
 NEWTON_ITERS = 8
-MAX_SITES = 1024        # beyond this many decision sites a record (4 bytes per site and
+MAX_SITES = 256         # beyond this many decision sites a record (4 bytes per site and
                         # point) costs more than it saves: creases are bisected instead
 
 

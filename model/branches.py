@@ -92,33 +92,32 @@ class Ctx:
 
 def extreme(kids, n, need_grad, better, ctx, node, part=0):
     """The max (better=np.greater) or min (np.less) of children (idx, f, g) that are 0
-    outside their support, as evaluate._extreme computes it (first child wins ties),
-    with the choice recorded or pinned."""
-    K = len(kids)
-    Fk = np.zeros((K, n))
-    cov = np.zeros((K, n), bool)
-    Gk = np.zeros((K, 3, n)) if need_grad else None
+    outside their support, as evaluate._extreme computes it (first child wins ties; a
+    child that covers no point is skipped but still makes every point partial), with
+    the choice recorded or pinned. Two passes over the children, O(n) memory (a union
+    of a thousand subtrees must not need a (children, 3, n) array)."""
+    F = np.full(n, -np.inf if better is np.greater else np.inf)
+    w = np.full(n, ZERO, np.int64)
+    cover = np.zeros(n, np.int32)
     for k, (idx, f, g) in enumerate(kids):
+        if idx is not None and len(idx) == 0:
+            continue
         sl = slice(None) if idx is None else idx
-        Fk[k, sl] = f
-        cov[k, sl] = True
+        cur = F[sl]
+        win = better(f, cur)
+        F[sl] = np.where(win, f, cur)
+        w[sl] = np.where(win, k, w[sl])
+        cover[sl] += 1
+    w[(cover < len(kids)) & better(0.0, F)] = ZERO           # a child not covering a point is 0 there
+    w = ctx.decide(node, w, part)
+    F = np.zeros(n)
+    G = np.zeros((3, n)) if need_grad else None
+    for k, (idx, f, g) in enumerate(kids):
+        mine = w == k if idx is None else w[idx] == k
+        to = np.flatnonzero(mine) if idx is None else idx[mine]
+        F[to] = f[mine]
         if need_grad:
-            Gk[k][:, sl] = g
-    worst = -np.inf if better is np.greater else np.inf
-    vals = np.where(cov, Fk, worst)
-    w = np.argmax(vals, axis=0) if better is np.greater else np.argmin(vals, axis=0)
-    cols = np.arange(n)
-    F = vals[w, cols]
-    w[~cov.all(axis=0) & better(0.0, F)] = ZERO           # a child not covering a point is 0 there
-    return _take(Fk, Gk, ctx.decide(node, w, part), cols)
-
-
-def _take(Fk, Gk, w, cols):
-    """Value and gradient of child w[i] at column i (0 where w is ZERO)."""
-    wk = np.maximum(w, 0)
-    on = w >= 0
-    F = np.where(on, Fk[wk, cols], 0.0)
-    G = np.where(on, Gk[wk, :, cols].T, 0.0) if Gk is not None else None
+            G[:, to] = g[:, mine]
     return F, G
 
 

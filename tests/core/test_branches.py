@@ -109,3 +109,24 @@ def test_a_record_longer_than_one_evaluation_chunk_keeps_every_points_row(monkey
     # every point pinned to the first sphere, across all chunks
     fp, _ = ev.pinned(P, np.zeros((1000, 1), np.int32))
     np.testing.assert_allclose(fp, kernel(P, (0, 0, 0), 1.5), atol=1e-15)
+
+
+def test_a_union_of_many_unlike_subtrees_records_and_pins_each_child():
+    # twelve differences, the i-th with i + 1 bites (twelve shapes: no stack), so one
+    # union site chooses among twelve subtrees
+    kids = [{"type": "difference", "children": [pt((1.1 * i, 0, 0), 1.0)] +
+             [pt((1.1 * i + 0.5, 0.4, 0.05 * j), 0.5, 2.0) for j in range(i + 1)]} for i in range(12)]
+    ev = ev_of({"type": "union", "children": kids})
+    assert len(ev.plan.children) == 12
+    P = np.random.default_rng(5).uniform((-1, -1, -0.5), (13, 1, 0.5), size=(5000, 3))
+    f, g = ev.field_grad(P)
+    f1, g1, rec = ev.record(P)
+    assert np.array_equal(f, f1) and np.array_equal(g, g1)
+    col = ev.sites.col[id(ev.plan)][0]                     # the root union's column
+    assert set(np.unique(rec[:, col])) >= set(range(12))
+    pinned = rec.copy()
+    pinned[:, col] = 4                                      # every point on the fifth child
+    f5, g5 = ev.pinned(P, pinned)
+    want, gwant = ev_of(kids[4]).field_grad(P)
+    np.testing.assert_allclose(f5, want, atol=1e-15)
+    np.testing.assert_allclose(g5, gwant, atol=1e-12)
