@@ -86,30 +86,20 @@ class Ctx:
         if not self.pin:
             self.table[self.ids, cols] = natural
             return natural
-        forced = self.table[self.ids, cols]
-        return np.where(forced == NOT_REACHED, natural, forced)
+        pinned = self.table[self.ids, cols]
+        return np.where(pinned == NOT_REACHED, natural, pinned)
 
 
-def extreme(kids, n, need_grad, better, ctx, node, part=0):
-    """The max (better=np.greater) or min (np.less) of children (idx, f, g) that are 0
-    outside their support, as evaluate._extreme computes it (first child wins ties; a
-    child that covers no point is skipped but still makes every point partial), with
-    the choice recorded or pinned. Two passes over the children, O(n) memory (a union
-    of a thousand subtrees must not need a (children, 3, n) array)."""
-    F = np.full(n, -np.inf if better is np.greater else np.inf)
-    w = np.full(n, ZERO, np.int64)
-    cover = np.zeros(n, np.int32)
-    for k, (idx, f, g) in enumerate(kids):
-        if idx is not None and len(idx) == 0:
-            continue
-        sl = slice(None) if idx is None else idx
-        cur = F[sl]
-        win = better(f, cur)
-        F[sl] = np.where(win, f, cur)
-        w[sl] = np.where(win, k, w[sl])
-        cover[sl] += 1
-    w[(cover < len(kids)) & better(0.0, F)] = ZERO           # a child not covering a point is 0 there
-    w = ctx.decide(node, w, part)
+def forced(ctx, node, natural, part=0):
+    """Record the natural choices at a site; with pins, the choices to evaluate instead
+    (None: they are the natural ones, whose values the caller already has)."""
+    w = ctx.decide(node, natural, part)
+    return w if ctx.pin and np.any(w != natural) else None
+
+
+def child_choice(kids, n, need_grad, w):
+    """Value and gradient of child w[i] of children (idx, f, g) at column i: 0 where w
+    is ZERO or the child does not cover the point (its field is 0 there)."""
     F = np.zeros(n)
     G = np.zeros((3, n)) if need_grad else None
     for k, (idx, f, g) in enumerate(kids):
@@ -121,21 +111,10 @@ def extreme(kids, n, need_grad, better, ctx, node, part=0):
     return F, G
 
 
-def difference(A, gA, M, gM, iso, ctx, node):
-    """min(A, 2 iso - M) (A: the first child, M: the subtracted ones' max), choice 0
-    (the first child) or 1, recorded or pinned."""
-    B = 2 * iso - M
-    w = ctx.decide(node, np.where(A <= B, 0, 1).astype(np.int32))
-    first = w == 0
-    return np.where(first, A, B), (np.where(first, gA, -gM) if gA is not None else None)
-
-
-def pair_max(n, pp, member, f, g, natural, ctx, node):
-    """A union over (point, member) pairs (sorted by point; ``member`` the choice each
-    pair stands for, one pair per point and member) as dense (n,) values and (3, n)
-    gradients: the pair of each point's choice (``natural``: its largest pair, or ZERO),
-    recorded or pinned; 0 where a point has no pair with its choice."""
-    w = ctx.decide(node, natural)
+def pair_choice(n, pp, member, f, g, w):
+    """A union over (point, member) pairs (``member`` the choice each pair stands for,
+    one pair per point and member) at each point's choice w: dense (n,) values and
+    (3, n) gradients, 0 where w is ZERO or the point has no pair with that member."""
     hit = member == w[pp]
     F = np.zeros(n)
     F[pp[hit]] = f[hit]

@@ -9,10 +9,9 @@ import numpy as np
 
 from . import branches as BR
 from . import groups as G
-from . import primitives as PR
 from . import warps as W
 from .groups import Group
-from .plan import Op, Warp, compile_plan
+from .plan import Warp, compile_plan
 from .stack import Stack, StackedGroup
 
 CHUNK = 1 << 16
@@ -189,18 +188,14 @@ def _combine(node, kids, n, need_grad, ctx=None):
     if op == "blend":
         return _sum(kids, n, need_grad)
     if op in ("union", "intersection"):
-        better = np.greater if op == "union" else np.less
-        if ctx is not None:
-            return BR.extreme(kids, n, need_grad, better, ctx, node)
-        return _extreme(kids, n, need_grad, better)
+        return _extreme(kids, n, need_grad, np.greater if op == "union" else np.less, ctx, node)
     if op == "difference":
         A, gA = _dense(kids[0], n, need_grad)
-        if ctx is not None:
-            M, gM = BR.extreme(kids[1:], n, need_grad, np.greater, ctx, node, part=1)
-            return BR.difference(A, gA, M, gM, node.iso, ctx, node)
-        M, gM = _extreme(kids[1:], n, need_grad, np.greater)
+        M, gM = _extreme(kids[1:], n, need_grad, np.greater, ctx, node, part=1)
         B = 2 * node.iso - M
         first = A <= B
+        if ctx is not None:         # the first child (0) or the subtracted ones (1), recorded or pinned
+            first = ctx.decide(node, np.where(first, 0, 1)) == 0
         F = np.where(first, A, B)
         return F, (np.where(first, gA, -gM) if need_grad else None)
     return _ricci(kids, n, need_grad, node.n)
@@ -224,8 +219,10 @@ def _stack(node, P, need_grad, stats, ctx=None):
         n = P.shape[1]
         w = np.full(n, BR.ZERO, np.int64)
         w[owners] = np.where(zero, BR.ZERO, kk[win])
-        F, Gr = BR.pair_max(n, pp, kk, f, g, w, ctx, node)
-        return np.arange(n), F, Gr
+        forced = BR.forced(ctx, node, w)
+        if forced is not None:
+            F, Gr = BR.pair_choice(n, pp, kk, f, g, forced)
+            return np.arange(n), F, Gr
     F[zero] = 0.0
     if not need_grad:
         return owners, F, None
@@ -277,13 +274,15 @@ def _sum(kids, n, need_grad):
     return F, G
 
 
-def _extreme(kids, n, need_grad, better):
+def _extreme(kids, n, need_grad, better, ctx=None, node=None, part=0):
     """max (better=np.greater) or min (np.less) over children that are 0 outside their
-    support; the first child wins ties, as argmax/argmin would."""
+    support; the first child wins ties, as argmax/argmin would. With ``ctx`` the
+    choice (the child, or ZERO) is recorded or pinned (model.branches)."""
     F = np.full(n, -np.inf if better is np.greater else np.inf)
     G = np.zeros((3, n)) if need_grad else None
+    w = None if ctx is None else np.full(n, BR.ZERO, np.int64)
     cover = np.zeros(n, np.int32)
-    for idx, f, g in kids:
+    for k, (idx, f, g) in enumerate(kids):
         if idx is not None and len(idx) == 0:
             continue                              # covers no point: 0 everywhere, as "partial" handles
         if idx is None:
@@ -291,6 +290,8 @@ def _extreme(kids, n, need_grad, better):
             F = np.where(win, f, F)
             if need_grad:
                 G = np.where(win, g, G)
+            if w is not None:
+                w[win] = k
             cover += 1
         else:
             cur = F[idx]
@@ -298,6 +299,8 @@ def _extreme(kids, n, need_grad, better):
             F[idx] = np.where(win, f, cur)
             if need_grad:
                 G[:, idx] = np.where(win, g, G[:, idx])
+            if w is not None:
+                w[idx[win]] = k
             cover[idx] += 1
     # a child that does not cover a point is 0 there
     partial = cover < len(kids)
@@ -306,6 +309,12 @@ def _extreme(kids, n, need_grad, better):
         F[zero_wins] = 0.0
         if need_grad:
             G[:, zero_wins] = 0.0
+        if w is not None:
+            w[zero_wins] = BR.ZERO
+    if ctx is not None:
+        forced = BR.forced(ctx, node, w, part)
+        if forced is not None:
+            return BR.child_choice(kids, n, need_grad, forced)
     return F, G
 
 

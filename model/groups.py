@@ -97,12 +97,14 @@ def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx
     if pp is None:
         return _single(f, g, reduce)
     if ctx is not None and reduce == "max":
-        from .branches import ZERO, pair_max
+        from .branches import ZERO, forced, pair_choice
         w = np.full(n, ZERO, np.int64)
         if len(pp):
             owners, seg_max, win = segment_max(pp, f)
             w[owners] = np.where(seg_max > 0, idx[win], ZERO)
-        return pair_max(n, pp, idx, f, g, w, ctx, node)
+        pinned = forced(ctx, node, w)
+        if pinned is not None:
+            return pair_choice(n, pp, idx, f, g, pinned)
     return _reduce(reduce, n_exp, n, pp, f, g)
 
 
