@@ -12,6 +12,7 @@ cannot have a crease between them: the field is smooth there.
 """
 import numpy as np
 
+from ..model.branches import NOT_REACHED
 from .surface import newton_update, unit
 
 NEWTON_ITERS = 8
@@ -35,8 +36,10 @@ def record_ends(surface, A, B):
 
 
 def apart(pins):
+    """Whether the two records of each (m, 2, sites) pair chose differently at a site
+    both reached (a site one of them never reached is 0 there: no switch)."""
     a, b = pins[:, 0], pins[:, 1]
-    return np.any((a != b) & (a >= -1) & (b >= -1), axis=1)
+    return np.any((a != b) & (a != NOT_REACHED) & (b != NOT_REACHED), axis=1)
 
 
 def no_silhouette(surface, a, b, sa, sb, pins):
