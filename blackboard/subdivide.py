@@ -54,62 +54,68 @@ def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
     P = fine_grid_points(lo, h, ijk, k)
     F = ev.field(P.reshape(-1, 3)).reshape(m, k + 1, k + 1, k + 1)
     inside = F >= ev.iso
-    # every sign-changing fine edge, refined in one batch
-    ends, starts = [], []
+    # every sign-changing fine edge, refined in one batch; ID numbers them by axis and
+    # lower corner (-1: no crossing on that edge)
+    ID = np.full((3, m, k + 1, k + 1, k + 1), -1, np.int64)
+    ends, n = [], 0
     for a in range(3):
         s0, s1 = edge_ends(a)
         s0, s1 = (slice(None),) + s0, (slice(None),) + s1
         change = inside[s0] != inside[s1]
-        starts.append((a, np.argwhere(change)))             # (voxel, i, j, l) of the lower corner
+        idx = np.nonzero(change)
+        ID[a][s0][change] = np.arange(n, n + len(idx[0]))
+        n += len(idx[0])
         ends.append((P[s0][change], P[s1][change], F[s0][change], F[s1][change]))
-    A, B, fA, fB = (np.concatenate([e[i] for e in ends]) for i in range(4))
     empty = _none(kinds)
-    if len(A) == 0:
+    if n == 0:
         return empty
+    A, B, fA, fB = (np.concatenate([e[i] for e in ends]) for i in range(4))
     X = refine_crossings(ev, A, B, fA, fB)
     _, g = ev.field_grad(X)
     gn = np.linalg.norm(g, axis=1, keepdims=True)
-    N = np.where(gn > 0, -g / np.maximum(gn, 1e-300), np.nan)          # outward normals
-    # crossings by edge, NaN where an edge has none: (axis, m, k+1, k+1, k+1, 3)
-    XE = np.full((3, m, k + 1, k + 1, k + 1, 3), np.nan)
-    NE = np.full((3, m, k + 1, k + 1, k + 1, 3), np.nan)
-    at = 0
-    for a, idx in starts:
-        sel = (a, *idx.T)
-        XE[sel], NE[sel] = X[at:at + len(idx)], N[at:at + len(idx)]
-        at += len(idx)
-    # the twelve edges of each fine cell: (m, k, k, k, 12, 3)
-    cx, cn = [], []
+    N = -g / np.maximum(gn, 1e-300)                                   # outward normals
+    good = (gn[:, 0] > 0) & np.all(np.isfinite(N), axis=1) & np.all(np.isfinite(X), axis=1)
+    # the twelve edges of each fine cell: (cells, 12) crossing numbers
+    cols = []
     for a, d1, d2 in _CELL_EDGES:
         sl = [slice(None)] * 4
         b, c = (a + 1) % 3, (a + 2) % 3
         sl[1 + a] = slice(0, k)
         sl[1 + b] = slice(d1, d1 + k)
         sl[1 + c] = slice(d2, d2 + k)
-        cx.append(XE[a][tuple(sl)])
-        cn.append(NE[a][tuple(sl)])
-    CX, CN = np.stack(cx, axis=-2).reshape(-1, 12, 3), np.stack(cn, axis=-2).reshape(-1, 12, 3)
-    valid = np.all(np.isfinite(CN), axis=2) & np.all(np.isfinite(CX), axis=2)
+        cols.append(ID[a][tuple(sl)].reshape(-1))
+    E = np.stack(cols, axis=1)
+    valid = E >= 0
+    valid[valid] = good[E[valid]]
     cells = np.flatnonzero(valid.sum(axis=1) >= 2)
     if len(cells) == 0:
         return empty
-    CX, CN, valid = CX[cells], CN[cells], valid[cells]
+    E, valid = E[cells], valid[cells]
+    E = np.where(valid, E, 0)
     a, b = _PAIRS[:, 0], _PAIRS[:, 1]
-    both = valid[:, a] & valid[:, b]
-    XA, XB = CX[:, a], CX[:, b]                                       # (c, 66, 3)
-    dist = np.linalg.norm(XA - XB, axis=2)
     out = {}
     for kind in kinds:
         if kind == "silhouette":
-            s = np.einsum("cek,cek->ce", np.nan_to_num(CN), view.towards_eye(np.nan_to_num(CX).reshape(-1, 3))
-                          .reshape(CX.shape))
-            pair = (s[:, a] > 0) != (s[:, b] > 0)
+            s = np.einsum("ik,ik->i", N, view.towards_eye(X)) > 0
+            S = s[E]
+            # only cells whose valid crossings see both signs can hold such a pair
+            cand = np.flatnonzero(np.any(valid & S, axis=1) & np.any(valid & ~S, axis=1))
+            Ec, vc, Sc = E[cand], valid[cand], S[cand]
+            pair = Sc[:, a] != Sc[:, b]
         elif kind == "crease":
-            dot = np.einsum("cpk,cpk->cp", np.nan_to_num(CN[:, a]), np.nan_to_num(CN[:, b]))
+            # a pair apart by more than the angle needs a crossing more than half the
+            # angle from the cell's first valid one (the triangle inequality on the sphere)
+            ref = N[E[np.arange(len(E)), valid.argmax(axis=1)]]
+            spread = np.einsum("cek,ck->ce", N[E], ref) < np.cos(0.5 * crease_angle)
+            cand = np.flatnonzero(np.any(valid & spread, axis=1))
+            Ec, vc = E[cand], valid[cand]
+            dot = np.einsum("cpk,cpk->cp", N[Ec[:, a]], N[Ec[:, b]])
             pair = np.arccos(np.clip(dot, -1, 1)) > crease_angle
         else:
             continue
-        score = np.where(both & pair, dist, np.inf)
+        XA, XB = X[Ec[:, a]], X[Ec[:, b]]                               # (c, 66, 3)
+        dist = np.linalg.norm(XA - XB, axis=2)
+        score = np.where(vc[:, a] & vc[:, b] & pair, dist, np.inf)
         best = score.argmin(axis=1)
         c = np.flatnonzero(np.isfinite(score[np.arange(len(score)), best]))
         pa, pb = XA[c, best[c]], XB[c, best[c]]
