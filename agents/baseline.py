@@ -134,8 +134,8 @@ class Baseline:
 
     def _trace(self, k, a, b):
         kinds = np.array([k])
-        X, n, T, ref, A, B, valid, pins = refine_seeds(self.surface, kinds, a[None], b[None], self.tol,
-                                                       self.crease_angle)
+        X, n, T, ref, A, B, valid, pins, _ = refine_seeds(self.surface, kinds, a[None], b[None], self.tol,
+                                                          self.crease_angle)
         if not valid[0] or self._near(k, X[0], self.step_len):
             if not valid[0]:
                 self.rejected[k] = np.vstack([self.rejected[k], 0.5 * (a + b)[None]])

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import sheets
+from .bisection import bisect, bisect_some
 from .surface import CREASE, SIL, WEDGE, crease_estimate, unit
 
 SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
@@ -51,17 +52,31 @@ def level_tangent(surface, kinds, X, n, ref, eps):
     return unit(np.cross(n, G))
 
 
-def refine_seeds(surface, kinds, a, b, tol, crease_angle):
-    """Seeds from brackets (e.g. polygon edges): the outline point, its normal, a first
-    tangent, the crease ref (n_A - n_B), the bracket ends, a validity flag (a false
-    alarm, or a smooth bend taken for a crease, is not valid) and the ends' branch
-    records (m, 2, sites) (model.branches; taken for crease brackets and for silhouette
-    brackets Newton did not settle, NOT_REACHED elsewhere).
+class Seeds(NamedTuple):
+    """Refined seeds (:func:`refine_seeds`)."""
+    X: np.ndarray               # the outline point
+    n: np.ndarray               # its normal
+    T: np.ndarray               # a first tangent
+    ref: np.ndarray             # the crease ref (n_A - n_B)
+    A: np.ndarray               # the bracket ends (narrowed)
+    B: np.ndarray
+    valid: np.ndarray           # a real outline point (not a false alarm, nor a smooth bend taken for a crease)
+    pins: np.ndarray            # (m, 2, sites) the ends' branch records (model.branches)
+    open: np.ndarray            # bisection paused: A, B is the narrowed bracket to go on from
+
+
+def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
+    """Seeds from brackets (e.g. polygon edges), as :class:`Seeds`. The ends' branch
+    records are taken for crease brackets and for silhouette brackets Newton did not
+    settle (NOT_REACHED elsewhere).
 
     A crease bracket whose ends' records chose alike at every site is a smooth bend (no
     max or min switches between them): invalid at once. The others go to the crease
     point by Newton's method on the two sheets (agents.sheets), and to bisection where
-    that does not converge."""
+    that does not converge. With ``pause`` (a number of iterations), a bracket the
+    bisection has not settled within that many is left open, not valid, with its
+    narrowed ends: the caller refines it again later, Newton first (from a narrower
+    bracket it settles more often)."""
     a0, b0 = np.asarray(a, float), np.asarray(b, float)
     m = len(a0)
     P, _, g = surface.project(np.concatenate([a0, b0]), anchor=np.concatenate([b0, a0]))   # one batch
@@ -122,18 +137,20 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     # a crease bracket stops at sqrt(tol * its length): sheets curved no tighter than the
     # bracket is long then put the crossing from the tangent planes within tol
     finish = np.sqrt(tol * np.linalg.norm(b0 - a0, axis=1))
+    opened = np.zeros(m, bool)
     rest = np.flatnonzero(~by_newton)
     if len(rest):
-        out = surface.bisect(kinds[rest], None, None, ref[rest], tol, crease_angle=crease_angle,
-                             ends=(a[rest], ga[rest], sA[rest], b[rest], gb[rest], sB[rest]),
-                             finish=finish[rest])
+        out, more = bisect_some(surface, kinds[rest], None, None, ref[rest], tol, pause or 60, crease_angle,
+                                ends=(a[rest], ga[rest], sA[rest], b[rest], gb[rest], sB[rest]),
+                                finish=finish[rest], pause=pause is not None)
         for arr, val in zip((X, gX, A, B, nA, nB, valid), out):
             arr[rest] = val
+        opened[rest] = more
     cre = np.flatnonzero((kinds == CREASE) & valid & ~by_newton)
     if len(cre):
         # creases: bisect once more from the narrowed bracket with its own side normals
-        x2, g2, A2, B2, nA2, nB2, v2 = surface.bisect(kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol,
-                                                      crease_angle=crease_angle, finish=finish[cre])
+        x2, g2, A2, B2, nA2, nB2, v2 = bisect(surface, kinds[cre], A[cre], B[cre], nA[cre] - nB[cre], tol,
+                                              crease_angle=crease_angle, finish=finish[cre])
         X[cre[v2]], gX[cre[v2]], A[cre[v2]], B[cre[v2]] = x2[v2], g2[v2], A2[v2], B2[v2]
         nA[cre[v2]], nB[cre[v2]] = nA2[v2], nB2[v2]
         if use:
@@ -144,7 +161,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     # not be one (n.v and curvature jump across a crease too, and creases draw those)
     valid &= np.where(cre, ang > 0.5 * crease_angle, ang < 0.5 * crease_angle)
     n = surface.normals(gX)
-    lev = np.flatnonzero(~cre & ~by_newton)
+    lev = np.flatnonzero(~cre & ~by_newton & valid)
     if len(lev):
         tangent[lev] = level_tangent(surface, kinds[lev], X[lev], n[lev], (nA - nB)[lev], eps)
     tangent = np.where(cre[:, None], unit(np.cross(nA, nB)), tangent)
@@ -152,7 +169,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle):
     valid &= ~bad
     fX, _ = surface.field_grad(X)
     valid &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)
-    return X, n, tangent, nA - nB, A, B, valid, pins
+    return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
 def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=None, pins=None, team=None):
@@ -273,8 +290,8 @@ def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     j, todo = np.nonzero(crossing)
     if len(todo):
         src = j * m + todo
-        x, _, A, B, nA, nB, valid = surface.bisect(kw[src], None, None, rw[src], tol, crease_angle=crease_angle,
-                                                   ends=tuple(e[src] for e in E), finish=np.sqrt(tol * h[todo]))
+        x, _, A, B, nA, nB, valid = bisect(surface, kw[src], None, None, rw[src], tol, crease_angle=crease_angle,
+                                           ends=tuple(e[src] for e in E), finish=np.sqrt(tol * h[todo]))
         for w in range(len(widths) - 1, -1, -1):        # the narrowest valid bracket last, so it wins
             v = np.flatnonzero(valid & (j == w))
             got = todo[v]

@@ -12,6 +12,9 @@ from .outline import Outline
 from .tracer import refine_seeds, trace_step
 from .traced import SELF_GAP, consume_crossed
 
+SEED_PAUSE = 8          # bisection iterations a seed's refinement takes per system iteration
+SEED_ROUNDS = 6         # ... in at most this many system iterations
+
 
 @dataclass
 class Trace:
@@ -48,8 +51,9 @@ def start(self, ids):
     f = self.bb.feat
     self.bb.consume(ids)
     kinds = f["kind"][ids].astype(np.int64)
-    X, n, T, ref, A, B, valid, pins = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids], self.tol,
-                                                   self.settings.crease_angle)
+    X, n, T, ref, A, B, valid, pins, opened = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids],
+                                                           self.tol, self.settings.crease_angle, pause=SEED_PAUSE)
+    requeue(self, ids[opened], A[opened], B[opened])
     sides = {}
     cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
     if len(cre) and "silhouette" in self.settings.kinds:
@@ -81,6 +85,19 @@ def start(self, ids):
         self.traces[-1 - paired].fwd.append(X[i])
         self.traces[-1 - paired].fwd_n.append(n[i])
         self.traced.remember(k, X[i], tid, 0, n[i], base[i])
+
+
+def requeue(self, ids, A, B):
+    """Seeds whose bisection paused (one agent action per system iteration) go back on
+    the blackboard with their narrowed brackets, to be refined again in a later
+    iteration; one that has paused SEED_ROUNDS times already is dropped (a bracket
+    still narrowing after that many bisections holds no outline point it can reach)."""
+    f = self.bb.feat
+    rounds = f["rounds"][ids] + 1
+    keep = rounds < SEED_ROUNDS
+    for k in np.unique(f["kind"][ids[keep]]):
+        m = keep & (f["kind"][ids] == k)
+        self.bb.add_features(0.5 * (A[m] + B[m]), A[m], B[m], FEATURE_KINDS[k], f["cell"][ids[m]], rounds[m])
 
 
 def step(self):

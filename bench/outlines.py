@@ -102,7 +102,7 @@ def ground_truth(ev, view, cam, res):
     _, a, b = feats["crease"]
     surf = Surface(ev, view)
     crease = np.full(len(a), KIND_ID["crease"], np.int64)
-    X, _, _, _, _, _, real, _ = refine_seeds(surf, crease, a, b, 1e-8 * ev.scale, DEFAULT_CREASE_ANGLE)
+    X, _, _, _, _, _, real, _, _ = refine_seeds(surf, crease, a, b, 1e-8 * ev.scale, DEFAULT_CREASE_ANGLE)
     print(f"  ground truth: {len(feats['silhouette'][0])} silhouette points, {int(real.sum())} of "
           f"{len(a)} crease candidates are creases", flush=True)
     pts = np.concatenate([feats["silhouette"][0], X[real]])

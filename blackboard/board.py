@@ -111,7 +111,7 @@ class Blackboard:
                         voxel=((), np.int64, -1), kind=((), np.int8, 0))
         self.feat = Grow(pos=((3,), float, 0.0), a=((3,), float, 0.0), b=((3,), float, 0.0),
                          kind=((), np.int8, 0), voxel=((), np.int64, -1), used=((), bool, False),
-                         cell=((), float, 0.0))
+                         cell=((), float, 0.0), rounds=((), np.int64, 0))
 
     # --- voxels ---------------------------------------------------------------------
     def voxel_of(self, P):
@@ -195,17 +195,20 @@ class Blackboard:
                 "std": np.where(n > 0, np.sqrt(var), np.nan)}
 
     # --- feature points -------------------------------------------------------------
-    def add_features(self, pos, a, b, kind, cell=None):
+    def add_features(self, pos, a, b, kind, cell=None, rounds=0):
         """Approximate feature points with their brackets (a, b); ``cell``: the size of
         the grid cells that found them (default the blackboard's voxel; smaller for a
-        subdivided voxel's), the scale at which agents trace from them."""
+        subdivided voxel's), the scale at which agents trace from them. ``rounds``
+        above 0: feature points already counted, whose brackets an agent narrowed
+        that many times without settling them (they go on from there)."""
         pos = np.atleast_2d(pos)
         if len(pos) == 0:
             return np.zeros(0, np.int64)
         rows = self.voxel_rows(self.voxel_of(pos))
         ids = self.feat.add(len(pos), pos=pos, a=a, b=b, kind=KIND_ID[kind], voxel=rows,
-                            cell=self.h if cell is None else cell)
-        np.add.at(self.vox.cols["features"], rows, 1)
+                            cell=self.h if cell is None else cell, rounds=rounds)
+        again = np.broadcast_to(rounds, (len(pos),)) > 0
+        np.add.at(self.vox.cols["features"], rows[~again], 1)
         return ids
 
     def open_features(self, kind=None):

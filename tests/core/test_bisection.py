@@ -1,4 +1,4 @@
-"""The batched bracket solver (Surface.bisect): crease brackets narrow fast, and
+"""The batched bracket solver (agents.bisection): crease brackets narrow fast, and
 brackets that cannot succeed are given up early rather than held for all 60
 iterations (every batch waits for its slowest bracket)."""
 import math
@@ -7,6 +7,7 @@ import numpy as np
 
 from blobtree_ink import model as M
 from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents.bisection import bisect
 from blobtree_ink.agents.surface import CREASE, SIL, Surface
 from blobtree_ink.blackboard.view import View
 
@@ -57,7 +58,7 @@ def test_brackets_that_cannot_converge_are_given_up():
     ev = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
     surf = Sheets(ev, View(eye=(0.0, -6.0, 0.0)))
     A, B = np.array([[-1.0, 0.0, 0.0]]), np.array([[1.0, 0.0, 0.0]])
-    res = surf.bisect(np.array([SIL]), A, B, np.zeros((1, 3)), 1e-8 * ev.scale)
+    res = bisect(surf, np.array([SIL]), A, B, np.zeros((1, 3)), 1e-8 * ev.scale)
     assert not res[-1][0]
     assert Sheets.calls < 12                     # given up after a few iterations, not 60
     # a smooth bend taken for a crease: the ends' normals meet as it narrows
@@ -65,7 +66,7 @@ def test_brackets_that_cannot_converge_are_given_up():
     surf = Surface(one, View(eye=(0.0, -6.0, 0.0)))
     A, B = np.array([[r, 0.0, 0.0]]), np.array([[0.0, r, 0.0]])
     ref = np.array([[1.0, -1.0, 0.0]])
-    res = surf.bisect(np.array([CREASE]), A, B, ref, 1e-8 * one.scale, crease_angle=math.radians(35))
+    res = bisect(surf, np.array([CREASE]), A, B, ref, 1e-8 * one.scale, crease_angle=math.radians(35))
     assert not res[-1][0]
     # a real crease (the CSG circle) is still found
     diff = M.Evaluator(model_of({"type": "difference", "children": [
@@ -85,7 +86,7 @@ def test_crease_brackets_converge_in_a_few_iterations():
     s, surf, a, ga, b, gb = crease_seed_brackets(root, (4, -6, 3))
     assert len(a) > 20
     tol = 1e-8 * s.ev.scale
-    X, _, A, B, _, _, valid = surf.bisect(np.full(len(a), CREASE), a, b, surf.normals(ga) - surf.normals(gb),
+    X, _, A, B, _, _, valid = bisect(surf, np.full(len(a), CREASE), a, b, surf.normals(ga) - surf.normals(gb),
                                           tol, crease_angle=s.settings.crease_angle)
     assert valid.mean() > 0.9
     assert surf.calls <= 2 + 15                      # it took 62 calls
@@ -108,10 +109,10 @@ def test_a_narrow_crease_bracket_finishes_where_its_tangent_planes_meet():
     s, surf, a, ga, b, gb = crease_seed_brackets(root, (4, -6, 3))
     tol = 1e-8 * s.ev.scale
     kinds, ref = np.full(len(a), CREASE), surf.normals(ga) - surf.normals(gb)
-    full = surf.bisect(kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle)
+    full = bisect(surf, kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle)
     calls_full, surf.calls = surf.calls, 0
     finish = np.sqrt(tol * np.linalg.norm(a - b, axis=1))
-    X, gX, A, B, _, _, valid = surf.bisect(kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle,
+    X, gX, A, B, _, _, valid = bisect(surf, kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle,
                                            finish=finish)
     assert np.array_equal(valid, full[-1]) and valid.mean() > 0.9
     assert surf.calls < calls_full
@@ -138,11 +139,11 @@ def test_a_silhouette_bracket_across_a_crease_is_given_up_early():
     tol = 1e-8 * s.ev.scale
     ca = s.settings.crease_angle
     A0, B0, k0 = a[across], b[across], kinds[across]
-    X, gX, A, B, nA, nB, valid = surf.bisect(k0, A0, B0, np.zeros((len(k0), 3)), tol, crease_angle=ca)
+    X, gX, A, B, nA, nB, valid = bisect(surf, k0, A0, B0, np.zeros((len(k0), 3)), tol, crease_angle=ca)
     assert surf.calls <= 2 + 25                      # it took 56 calls
     # what it gives up early is what the callers would reject at the end: without the
     # early outs, those brackets end with their normals apart (on the rim)
-    full = surf.bisect(k0, A0, B0, np.zeros((len(k0), 3)), tol)
+    full = bisect(surf, k0, A0, B0, np.zeros((len(k0), 3)), tol)
     apart = np.einsum("ij,ij->i", full[4], full[5]) < np.cos(0.5 * ca)
     assert np.array_equal(valid, full[-1] & ~apart)
     assert (~valid).sum() >= 3
@@ -170,7 +171,7 @@ def test_a_crease_bracket_that_never_narrows_stops():
     ev = M.Evaluator(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}))
     surf = SeeSaw(ev, View(eye=(0.0, -6.0, 0.0)))
     A, B = np.array([[-1.0, 0.0, 0.0]]), np.array([[1.0, 0.0, 0.0]])
-    res = surf.bisect(np.array([CREASE]), A, B, np.array([[0.0, 2.0, 0.0]]), 1e-8 * ev.scale,
+    res = bisect(surf, np.array([CREASE]), A, B, np.array([[0.0, 2.0, 0.0]]), 1e-8 * ev.scale,
                       crease_angle=math.radians(35))
     assert not res[-1][0]
     assert SeeSaw.calls <= 2 + 13
@@ -183,7 +184,7 @@ def test_a_crease_estimate_off_by_more_than_its_nudge_is_nudged_by_a_quarter(mon
     alone, and the bracket is given up before it converges. After such an estimate the
     next trial points are a quarter of the bracket off it: twice as many brackets
     converge, onto the analytic circle."""
-    import blobtree_ink.agents.surface as surface_module
+    import blobtree_ink.agents.bisection as bisection_module
     c0, c1 = np.array([0.0, 0, 0]), np.array([0.9, 0.1, -0.1])
     root = {"type": "union", "children": [{"type": "point", "center": list(c0), "radius": 1.5},
                                           {"type": "point", "center": list(c1), "radius": 1.0}]}
@@ -192,10 +193,10 @@ def test_a_crease_estimate_off_by_more_than_its_nudge_is_nudged_by_a_quarter(mon
     kinds, ref = np.full(len(a), CREASE), surf.normals(ga) - surf.normals(gb)
     finish = np.sqrt(tol * np.linalg.norm(a - b, axis=1))
     runs = {}
-    for nudge in (surface_module.WIDE_NUDGE, surface_module.CREASE_NUDGE):
-        monkeypatch.setattr(surface_module, "WIDE_NUDGE", nudge)
+    for nudge in (bisection_module.WIDE_NUDGE, bisection_module.CREASE_NUDGE):
+        monkeypatch.setattr(bisection_module, "WIDE_NUDGE", nudge)
         surf.calls = 0
-        res = surf.bisect(kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle, finish=finish)
+        res = bisect(surf, kinds, a, b, ref, tol, crease_angle=s.settings.crease_angle, finish=finish)
         runs[nudge] = (surf.calls, res)
     (calls, (X, _, _, _, _, _, valid)), (_, small) = runs.values()
     assert valid.sum() >= 2 * small[-1].sum() and valid.sum() > 20

@@ -57,7 +57,7 @@ def test_crease_seeds_land_exactly_on_the_circle_in_a_few_evaluations(op):
     s, surf, a, ga, b, gb = crease_seed_brackets(spheres(op), (4, -6, 3))
     assert len(a) > 50
     calls = counting(s.ev)
-    X, n, T, ref, A, B, valid, pins = TR.refine_seeds(surf, np.full(len(a), CREASE), a, b, 1e-8 * s.ev.scale,
+    X, n, T, ref, A, B, valid, pins, _ = TR.refine_seeds(surf, np.full(len(a), CREASE), a, b, 1e-8 * s.ev.scale,
                                                       s.settings.crease_angle)
     assert valid.all()
     # projection, records, Newton iterations, checks: no bisection (it took 17
@@ -82,8 +82,8 @@ def test_a_smooth_bend_taken_for_a_crease_is_rejected_without_bisecting():
     P, _, _ = surf.project(rng.normal(size=(40, 3)))         # brackets across the waist
     a, b = P[:20], P[20:]
     surf.calls = 0
-    *_, valid, pins = TR.refine_seeds(surf, np.full(20, CREASE), a, b, 1e-8 * s.ev.scale,
-                                      s.settings.crease_angle)
+    seeds = TR.refine_seeds(surf, np.full(20, CREASE), a, b, 1e-8 * s.ev.scale, s.settings.crease_angle)
+    valid = seeds.valid
     assert not valid.any() and surf.calls == 1
 
 
@@ -155,7 +155,7 @@ def test_a_silhouette_bracket_across_a_crease_is_rejected_without_bisecting():
     own = [(np.array([-0.65, 0, 0]) + r * u, np.array([-0.55, 0, 0]) + r * u) for u in ring]
     a = np.array([p for p, _ in across + own])
     b = np.array([q for _, q in across + own])
-    X, n, T, ref, A, B, valid, pins = TR.refine_seeds(surf, np.full(len(a), SIL), a, b, 1e-8 * ev.scale,
+    X, n, T, ref, A, B, valid, pins, _ = TR.refine_seeds(surf, np.full(len(a), SIL), a, b, 1e-8 * ev.scale,
                                                       math.radians(35))
     assert not valid[:12].any() and valid[12:].all()
     np.testing.assert_allclose(X[12:, 0], -0.6, atol=1e-9)   # on sphere A's great circle

@@ -121,7 +121,7 @@ def test_silhouette_seeds_are_refined_by_newton_and_one_across_a_crease_is_not()
     A = on + 0.08 * radial + 0.05 * axis
     B = on - 0.1 * radial - 0.04 * axis + 0.02 * np.cross(axis, radial)
     kinds = np.full(len(A), SIL)
-    X, n, T, ref, A2, B2, valid, _ = refine_seeds(surf, kinds, A, B, 1e-10, math.radians(35))
+    X, n, T, ref, A2, B2, valid, _, _ = refine_seeds(surf, kinds, A, B, 1e-10, math.radians(35))
     assert valid.all()
     np.testing.assert_allclose(np.linalg.norm(X, axis=1), K, atol=1e-12)
     v = surf.view.towards_eye(X)
@@ -141,5 +141,5 @@ def test_silhouette_seeds_are_refined_by_newton_and_one_across_a_crease_is_not()
     A, B = p - 0.05 * jump, p + 0.05 * jump                  # ball 0's side, ball 1's side
     nv = [s2.view.towards_eye(q[None])[0] @ (q - c) / r for q, c, r in ((p, 0 * c1, r0), (p, c1, r1))]
     assert nv[0] < -0.5 and nv[1] > 0.5
-    X, n, T, ref, _, _, valid, _ = refine_seeds(s2, np.array([SIL]), A[None], B[None], 1e-10, math.radians(35))
+    X, n, T, ref, _, _, valid, _, _ = refine_seeds(s2, np.array([SIL]), A[None], B[None], 1e-10, math.radians(35))
     assert not valid[0]
