@@ -32,8 +32,9 @@ def bisect_some(surface, kinds, A, B, ref, tol, iters=60, crease_angle=None, anc
     plain bisection: 40 iterations against 9), and a quarter of the bracket either
     side of it after an estimate that did not shrink the bracket below 0.7 (the
     estimate was off by more than the small nudge; the midpoint it replaced could
-    widen a bracket across a sharp wedge). A crease trial point whose projection
-    does not settle on the surface moves no end. Returns the crossing (the
+    widen a bracket across a sharp wedge). Trial points take two Newton steps towards
+    the surface; a crease trial point whose projection does not settle near it (within
+    1e-8) moves no end. Returns the crossing (the
     final bracket end on the first end's side, on the surface to rounding), its
     gradient, the final bracket ends and their normals, and whether each bracket
     held a sign change. With ``crease_angle``, a crease bracket whose end normals

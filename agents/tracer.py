@@ -140,7 +140,8 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     opened = np.zeros(m, bool)
     rest = np.flatnonzero(~by_newton)
     if len(rest):
-        out, more = bisect_some(surface, kinds[rest], None, None, ref[rest], tol, pause or 60, crease_angle,
+        iters = 60 if pause is None else pause
+        out, more = bisect_some(surface, kinds[rest], None, None, ref[rest], tol, iters, crease_angle,
                                 ends=(a[rest], ga[rest], sA[rest], b[rest], gb[rest], sB[rest]),
                                 finish=finish[rest], pause=pause is not None)
         for arr, val in zip((X, gX, A, B, nA, nB, valid), out):

@@ -22,7 +22,6 @@ def tolerance(iso):
 
 def newton(ev, P, f, g, steps, max_step=None):
     """Move P (m,3) in place onto f = iso, updating f (m,) and g (m,3) with it.
-    ``steps``: at most that many steps, one number for all points or one per point.
 
     Points where the gradient vanishes (a flat field) cannot move and are left as they
     are. Returns the number of field evaluations made."""
@@ -30,12 +29,11 @@ def newton(ev, P, f, g, steps, max_step=None):
     tol = tolerance(iso)
     live = np.arange(len(P))
     damp = np.ones(len(P))
-    limit = np.broadcast_to(np.asarray(steps, np.int64), (len(P),))
     calls = 0
-    for it in range(int(limit.max()) if len(P) else 0):
+    for _ in range(steps):
         fl, gl = f[live], g[live]
         gg = np.einsum("ij,ij->i", gl, gl)
-        ok = (gg > 1e-300) & (np.abs(fl - iso) > tol) & (damp[live] >= MIN_DAMP) & (limit[live] > it)
+        ok = (gg > 1e-300) & (np.abs(fl - iso) > tol) & (damp[live] >= MIN_DAMP)
         live, fl, gl, gg = live[ok], fl[ok], gl[ok], gg[ok]
         if len(live) == 0:
             break
