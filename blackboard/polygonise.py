@@ -13,6 +13,7 @@ import numpy as np
 from ..model.projection import newton
 
 MIN_RES, MAX_RES = 2, 512
+LAYERS = 4               # sample layers per evaluation of the surface box's walks inwards
 
 
 class GridError(ValueError):
@@ -50,9 +51,10 @@ class Mesh:
 
 
 def surface_box(ev, res=48, pad_cells=1.5):
-    """Bounds of the solid f >= iso, from a res^3 sampling of the support box; kept on
-    the evaluator (whose plan is fixed), so that placing a view and polygonising, or a
-    second run on one model, sample it once."""
+    """Bounds of the solid f >= iso, from a res^3 sampling of the support box (coarse
+    first, then layer by layer at its ends: see _surface_box); kept on the evaluator
+    (whose plan is fixed), so that placing a view and polygonising, or a second run on
+    one model, sample it once."""
     key = ("surface_box", int(res), float(pad_cells))
     if key not in ev.memo:
         ev.memo[key] = _surface_box(ev, res, pad_cells)
@@ -61,19 +63,40 @@ def surface_box(ev, res=48, pad_cells=1.5):
 
 
 def _surface_box(ev, res, pad_cells):
+    """The inside extents of a res^3 sampling of the support box, found without
+    sampling all of it: from each end of each axis, whole layers of samples are taken
+    inwards (LAYERS per evaluation) up to the first that holds an inside sample. An
+    axis taken after another only samples its layers within the other's extent,
+    where every inside sample lies. The result is that of sampling every point."""
     lo, hi = ev.bounds
     if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(hi > lo)):
         return None
     axes = [np.linspace(lo[i], hi[i], res) for i in range(3)]
-    X, Y, Z = np.meshgrid(*axes, indexing="ij")
-    inside = (ev.field(np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)) >= ev.iso).reshape(res, res, res)
-    if not inside.any():
-        return None
+    win = [[0, res - 1] for _ in range(3)]
+    for i in range(3):
+        others = tuple(j for j in range(3) if j != i)
+        for e, way in ((0, 1), (1, -1)):
+            k = win[i][e]
+            while True:
+                layers = [x for x in range(k, k + way * LAYERS, way) if win[i][0] <= x <= win[i][1]]
+                if not layers:
+                    return None                       # no sample inside
+                sub = [axes[j][win[j][0]:win[j][1] + 1] if j != i else axes[i][layers] for j in range(3)]
+                on = np.flatnonzero(_inside(ev, sub).any(axis=others))
+                if len(on):
+                    win[i][e] = layers[int(on[0])]
+                    break
+                k += way * LAYERS
     cell = (hi - lo) / (res - 1)
-    idx = [np.flatnonzero(inside.any(axis=tuple(j for j in range(3) if j != i))) for i in range(3)]
-    slo = np.array([axes[i][idx[i][0]] for i in range(3)]) - pad_cells * cell
-    shi = np.array([axes[i][idx[i][-1]] for i in range(3)]) + pad_cells * cell
+    slo = np.array([axes[i][win[i][0]] for i in range(3)]) - pad_cells * cell
+    shi = np.array([axes[i][win[i][1]] for i in range(3)]) + pad_cells * cell
     return np.maximum(slo, lo - cell), np.minimum(shi, hi + cell)
+
+
+def _inside(ev, axes):
+    X, Y, Z = np.meshgrid(*axes, indexing="ij")
+    shape = X.shape
+    return (ev.field(np.stack([X.ravel(), Y.ravel(), Z.ravel()], axis=1)) >= ev.iso).reshape(shape)
 
 
 def sample_grid(ev, res, bounds=None, max_bytes=2 * 2**30):
