@@ -176,9 +176,6 @@ def mesh_from_grid(ev, grid, project_steps=6):
     f, iso, h, lo = grid.field, ev.iso, grid.cell, grid.lo
     nx, ny, nz = grid.res
     inside = f >= iso
-    cell_sum = np.zeros((nx, ny, nz, 3))
-    cell_cnt = np.zeros((nx, ny, nz))
-    cell_any = np.zeros((nx, ny, nz, 3))     # one edge crossing of each cell
     edge_lists = []
     crossings = []
     for a in range(3):
@@ -195,6 +192,7 @@ def mesh_from_grid(ev, grid, project_steps=6):
     fb = np.concatenate([c[3] for c in crossings])
     refined = refine_crossings(ev, A, A + step, fa, fb) if project_steps else None
     start = 0
+    flats, around = [], []                   # each crossing in the (up to) four cells around its edge
     for a, ijk, f0c, f1c in crossings:
         if refined is not None:
             pts = refined[start:start + len(ijk)]
@@ -203,7 +201,6 @@ def mesh_from_grid(ev, grid, project_steps=6):
             pts = lo + ijk * h
             pts[:, a] += t * h[a]
         start += len(ijk)
-        # the (up to) four cells around the edge
         b, c = (a + 1) % 3, (a + 2) % 3
         for db in (-1, 0):
             for dc in (-1, 0):
@@ -212,16 +209,22 @@ def mesh_from_grid(ev, grid, project_steps=6):
                 cidx[:, c] += dc
                 ok = (cidx[:, b] >= 0) & (cidx[:, b] < grid.res[b]) & (cidx[:, c] >= 0) & (cidx[:, c] < grid.res[c])
                 ok &= cidx[:, a] < grid.res[a]
-                flat = np.ravel_multi_index(cidx[ok].T, grid.res)
-                for k in range(3):
-                    cell_sum[..., k].flat[:] += np.bincount(flat, weights=pts[ok, k], minlength=cell_cnt.size)
-                    cell_any[..., k].flat[flat] = pts[ok, k]
-                cell_cnt.flat[:] += np.bincount(flat, minlength=cell_cnt.size)
-    active = cell_cnt > 0
-    vid = np.full(grid.res, -1, np.int64)
-    cells = np.argwhere(active)
-    vid[active] = np.arange(len(cells))
-    verts = cell_sum[active] / cell_cnt[active][:, None]
+                flats.append(np.ravel_multi_index(cidx[ok].T, grid.res))
+                around.append(pts[ok])
+    ncell = nx * ny * nz
+    flat = np.concatenate(flats) if flats else np.zeros(0, np.int64)
+    around = np.concatenate(around) if around else np.zeros((0, 3))
+    count = np.bincount(flat, minlength=ncell)
+    active = np.flatnonzero(count)           # in the order of np.argwhere over the cells
+    cell_any = np.zeros((ncell, 3))          # one edge crossing of each cell
+    cell_any[flat] = around
+    cell_any = cell_any[active]
+    cells = np.stack(np.unravel_index(active, grid.res), axis=1)
+    vid = np.full(ncell, -1, np.int64)
+    vid[active] = np.arange(len(active))
+    vid = vid.reshape(grid.res)
+    verts = np.stack([np.bincount(flat, weights=around[:, k], minlength=ncell)[active] for k in range(3)], axis=1)
+    verts /= count[active][:, None]
     quads = []
     for a, ijk, low_inside in edge_lists:
         b, c = (a + 1) % 3, (a + 2) % 3          # (a, b, c) cyclic: b x c = +a
@@ -248,7 +251,7 @@ def mesh_from_grid(ev, grid, project_steps=6):
         fv, gv = ev.field_grad(verts)
         bad = (np.abs(fv - iso) > 1e-6 * max(1.0, abs(iso))) | ~(np.einsum("ij,ij->i", gv, gv) > 0)
         if bad.any():
-            verts[bad] = project(ev, cell_any[active][bad], steps=project_steps, max_step=h.max())
+            verts[bad] = project(ev, cell_any[bad], steps=project_steps, max_step=h.max())
     return Mesh(vertices=verts, quads=quads, cells=cells, grid=grid)
 
 
