@@ -2,6 +2,7 @@
 outline is near a point (to start no second trace on it, to stop a trace that meets
 another, or closes on itself); and which open seeds new trace points cover."""
 import math
+from itertools import product
 
 import numpy as np
 
@@ -50,21 +51,20 @@ class TracedPoints:
         if sheet:
             nx, ny, nz = float(n[0]), float(n[1]), float(n[2])
         cx, cy, cz = self._cell(px, py, pz)
-        table = self.table[kind]
         cos = self.cos_sheet
         radius = float(radius)
-        for dx in (-1, 0, 1):
-            for dy in (-1, 0, 1):
-                for dz in (-1, 0, 1):
-                    for tid, q, qa, qn, qs in table.get((cx + dx, cy + dy, cz + dz), ()):
-                        if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
-                            continue
-                        if sheet and qn[0] * nx + qn[1] * ny + qn[2] * nz < cos:
-                            continue
-                        r = max(radius, 0.6 * qs)
-                        ex, ey, ez = q[0] - px, q[1] - py, q[2] - pz
-                        if ex * ex + ey * ey + ez * ez < r * r:
-                            return (tid, qa)
+        get = self.table[kind].get
+        # the 27 cells around p, in the order of nested loops over dx, dy, dz
+        for key in product((cx - 1, cx, cx + 1), (cy - 1, cy, cy + 1), (cz - 1, cz, cz + 1)):
+            for tid, q, qa, qn, qs in get(key, ()):
+                if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
+                    continue
+                if sheet and qn[0] * nx + qn[1] * ny + qn[2] * nz < cos:
+                    continue
+                r = max(radius, 0.6 * qs)
+                ex, ey, ez = q[0] - px, q[1] - py, q[2] - pz
+                if ex * ex + ey * ey + ez * ez < r * r:
+                    return (tid, qa)
         return None
 
 

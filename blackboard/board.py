@@ -71,6 +71,28 @@ def _unique_ijk(ijk):
     return ijk[first]
 
 
+def pairs_within(A, B, r):
+    """Index pairs (i, j), i sorted, of the points A[i] and B[j] closer than r: B hashed
+    in cells of at least r (the 27 cells around a point of A hold every B within r)."""
+    A, B = np.atleast_2d(A), np.atleast_2d(B)
+    none = np.zeros(0, np.int64)
+    if len(A) == 0 or len(B) == 0 or not r > 0:
+        return none, none
+    lo = np.minimum(A.min(0), B.min(0))
+    span = float(max((A.max(0) - lo).max(), (B.max(0) - lo).max()))
+    cell = max(float(r), span / (_OFF - 2))            # cell indices stay packable
+    kb = pack(np.floor((B - lo) / cell).astype(np.int64))
+    order = np.argsort(kb, kind="stable")
+    kb = kb[order]
+    ka = pack(np.floor((A - lo) / cell).astype(np.int64)[:, None, :] + _NEIGHBOURS[None]).ravel()
+    start = np.searchsorted(kb, ka, "left")
+    count = np.searchsorted(kb, ka, "right") - start
+    i = np.repeat(np.arange(len(ka)) // len(_NEIGHBOURS), count)
+    j = order[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - start, count)]
+    near = ((A[i] - B[j]) ** 2).sum(-1) < r * r
+    return i[near], j[near]
+
+
 class VoxelIndex:
     """Packed voxel keys -> rows: a sorted key array and the rows in the same order."""
 
@@ -225,16 +247,13 @@ class Blackboard:
         if len(ids) == 0 or len(P) == 0:
             return np.zeros(0, np.int64), np.zeros(0, np.int64)
         fp = self.feat["pos"][ids]
-        best = np.full(len(ids), np.inf)
-        which = np.zeros(len(ids), np.int64)
-        for a in range(0, len(P), 256):
-            d2 = ((fp[:, None, :] - P[None, a:a + 256, :]) ** 2).sum(-1)
-            j = d2.argmin(axis=1)
-            d = d2[np.arange(len(ids)), j]
-            closer = d < best
-            best[closer], which[closer] = d[closer], a + j[closer]
-        hit = best < radius * radius
-        return ids[hit], which[hit]
+        i, j = pairs_within(fp, P, radius)
+        d2 = ((fp[i] - P[j]) ** 2).sum(-1)
+        order = np.lexsort((j, d2, i))          # each feature's nearest point, the first on ties
+        i, j = i[order], j[order]
+        first = np.ones(len(i), bool)
+        np.not_equal(i[1:], i[:-1], out=first[1:])
+        return ids[i[first]], j[first]
 
     def consume(self, ids):
         """Mark feature points as used (taken, or covered by a traced outline)."""

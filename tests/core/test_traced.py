@@ -5,10 +5,12 @@ import numpy as np
 
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents.traced import consume_crossed
-from blobtree_ink.blackboard.board import KIND_ID
+from blobtree_ink.blackboard.board import KIND_ID, pairs_within
 from blobtree_ink.blackboard.view import View
 
-from test_massris import K
+from test_massris import K, model_of
+
+SPHERE = {"type": "point", "center": [0, 0, 0], "radius": 1.0}
 
 
 def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
@@ -86,3 +88,32 @@ def test_points_of_a_longer_stepped_outline_count_within_its_step(load_example):
     # a short-stepped outline's points count only within the query's radius
     assert s.traced.near(0, p + [0, 0, 0.2 + 0.5 * fine], fine, 8) == (9, 3)
     assert s.traced.near(0, p + [0, 0, 0.2 + 2 * fine], fine, 8) is None
+
+
+def test_pairs_within_are_those_of_every_distance():
+    """The hashed pair search gives exactly the pairs closer than r that comparing every
+    distance gives (points on cell boundaries and duplicates included), and open_near
+    keeps each feature's nearest point, the first on ties."""
+    rng = np.random.default_rng(3)
+    r = 0.1
+    A = np.round(rng.random((300, 3)), 1)                  # many points on cell boundaries, some equal
+    B = np.concatenate([np.round(rng.random((200, 3)), 1), A[:20] + [r, 0, 0], A[20:30]])
+    i, j = pairs_within(A, B, r)
+    d2 = ((A[:, None] - B[None]) ** 2).sum(-1)
+    want_i, want_j = np.nonzero(d2 < r * r)
+    assert len(want_i) > 30
+    got = set(zip(i.tolist(), j.tolist()))
+    assert got == set(zip(want_i.tolist(), want_j.tolist())) and len(got) == len(i)
+    assert np.all(np.diff(i) >= 0)
+    # far apart in space and close in one corner: the cells grow, the pairs do not change
+    C = np.concatenate([A, [[1e7, 0, 0]]])
+    i2, j2 = pairs_within(C, B, r)
+    assert set(zip(i2.tolist(), j2.tolist())) == got
+    s = Session(model_of(SPHERE), View(eye=(0, -4.0, 0)), Settings(resolution=8))
+    s.bb.consume(s.bb.open_features())
+    ids = s.bb.add_features(A, A, A, "silhouette")
+    got_ids, which = s.bb.open_near(B, "silhouette", r)
+    has = np.flatnonzero((d2 < r * r).any(axis=1))
+    np.testing.assert_array_equal(got_ids, ids[has])
+    np.testing.assert_array_equal(which, d2[has].argmin(axis=1))     # argmin: the first of equal ones
+    assert len(np.unique(d2[has].min(axis=1))) < len(has)             # some ties among them
