@@ -119,6 +119,10 @@ def step(self):
     X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
     side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
     rows = self.bb.add_samples(X, st.f, st.g, "path")
+    # how far each new point is from its outline's other end: the seed, or the forward
+    # half's last point for a backward half
+    other = np.array([t.start if t.phase == "fwd" or not t.fwd else t.fwd[-1] for t in trs])
+    at_other = np.linalg.norm(X - other, axis=1) < 0.75 * base
     still = []
     covered = []                           # trace points appended this iteration
     for i, tr in enumerate(trs):
@@ -131,10 +135,9 @@ def step(self):
             end = "lost"
         else:
             mine = tr.fwd if tr.phase == "fwd" else tr.bwd
-            other_end = tr.start if tr.phase == "fwd" or not tr.fwd else tr.fwd[-1]
             steps = len(tr.fwd) + len(tr.bwd)
             arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
-            if steps >= 4 and np.linalg.norm(X[i] - other_end) < 0.75 * tr.base:
+            if steps >= 4 and at_other[i]:
                 end = "closed"
             elif (hit := self.traced.near(tr.kind, X[i], tr.base, tr.id, arc, n[i])) is not None:
                 # an outline is here: stop short; come round onto its own seed, it closed
