@@ -51,8 +51,8 @@ class Mesh:
 
 
 def surface_box(ev, res=48, pad_cells=1.5):
-    """Bounds of the solid f >= iso, from a res^3 sampling of the support box (coarse
-    first, then layer by layer at its ends: see _surface_box); kept on the evaluator
+    """Bounds of the solid f >= iso, from a res^3 sampling of the support box (walked
+    layer by layer inwards from its faces: see _surface_box); kept on the evaluator
     (whose plan is fixed), so that placing a view and polygonising, or a second run on
     one model, sample it once."""
     key = ("surface_box", int(res), float(pad_cells))
