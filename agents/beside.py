@@ -57,7 +57,8 @@ def seeds_beside_silhouettes(session, region_ok=None):
     a, b = Q[rows, j - 1], Q[rows, j]
     pos = 0.5 * (a + b)
     # a bracket across an outline already traced (the flip is that outline) is no news
-    new = np.array([s.traced.near(KIND_ID["silhouette"], q, 0.5 * s.step_len, None) is None for q in pos])
+    known = s.traced.loop(np.full(len(pos), KIND_ID["silhouette"]), pos, 0.5 * s.step_len)
+    new = np.array([known.hit(q) is None for q in range(len(pos))], bool)
     a, b, pos = a[new], b[new], pos[new]
     _, first = np.unique(np.floor(pos / (0.5 * h)).astype(np.int64), axis=0, return_index=True)
     first = np.sort(first)

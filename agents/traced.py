@@ -1,40 +1,207 @@
 """Points of the outlines traced so far, hashed by cells of one trace step: which
 outline is near a point (to start no second trace on it, to stop a trace that meets
-another, or closes on itself); and which open seeds new trace points cover."""
-import math
-from itertools import product
+another, or closes on itself); and which open seeds new trace points cover.
 
+The points are numpy columns per kind, sorted by cell (in the order they came within
+a cell). A loop over tasks asks its questions together (:meth:`TracedPoints.loop`):
+against the table as of the loop's start in one batch, and against the points the loop
+itself keeps before each question through the pairs found at its start, resolved as it
+goes; a question alone is a loop of one."""
 import numpy as np
 
-from ..blackboard.board import FEATURE_KINDS, KIND_ID
+from ..blackboard.board import FEATURE_KINDS, KIND_ID, _NEIGHBOURS, pack
 
 SELF_GAP = 6        # steps along an outline within which its own points do not stop it
+_NONE = len(_NEIGHBOURS)        # no hit: beyond the last of the 27 cells
+NO_ARC = np.iinfo(np.int64).min  # a question without a step index
+
+
+class Points:
+    """Trace points of one kind as columns (pos, normal, outline id, step index, step),
+    with their cells' keys, sorted by key and, within a key, in the order they came."""
+    def __init__(self, step_len, pos=None, nrm=None, tid=None, arc=None, step=None):
+        self.step_len = step_len
+        self.pos = np.zeros((0, 3)) if pos is None else np.array(pos, float).reshape(-1, 3)
+        m = len(self.pos)
+        self.nrm = np.zeros((m, 3)) if nrm is None else np.array(nrm, float).reshape(-1, 3)
+        self.tid = np.zeros(m, np.int64) if tid is None else np.array(tid, np.int64).reshape(-1)
+        self.arc = np.zeros(m, np.int64) if arc is None else np.array(arc, np.int64).reshape(-1)
+        self.step = np.zeros(m) if step is None else np.array(step, float).reshape(-1)
+        self.key = pack(np.floor(self.pos / step_len).astype(np.int64))
+        self.order = np.argsort(self.key, kind="stable")      # rows by (key, arrival)
+        self.sorted_key = self.key[self.order]
+
+    def __len__(self):
+        return len(self.pos)
+
+    def extend(self, other):
+        """These points followed by ``other``'s."""
+        cols = [np.concatenate([getattr(self, c), getattr(other, c)]) for c in ("pos", "nrm", "tid", "arc", "step")]
+        return Points(self.step_len, *cols)
+
+    def around(self, P):
+        """(point, row, cell) for every row in the 27 cells around each point P[i]; cell
+        is the index of the row's cell among them (nested loops over dx, dy, dz)."""
+        keys = pack(np.floor(P / self.step_len).astype(np.int64)[:, None, :] + _NEIGHBOURS[None]).ravel()
+        lo = np.searchsorted(self.sorted_key, keys, "left")
+        count = np.searchsorted(self.sorted_key, keys, "right") - lo
+        slot = np.repeat(np.arange(len(keys)), count)
+        rows = self.order[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - lo, count)]
+        return slot // _NONE, rows, slot % _NONE
+
+
+class Questions:
+    """Which traced point of one kind is near each point P[i] (see :meth:`TracedPoints.near`):
+    radius, own outline id (-1: none), step index (NO_ARC: none) and normal (NaN: none)."""
+    def __init__(self, kind, P, radius, own, arc, n):
+        self.kind = int(kind)
+        self.P, self.radius, self.own, self.arc = P, np.asarray(radius, float), own, arc
+        self.has_own, self.has_arc = own >= 0, arc != NO_ARC
+        self.has_n = np.isfinite(n).all(axis=1)
+        self.n = np.where(self.has_n[:, None], n, 0.0)
+
+    def __len__(self):
+        return len(self.P)
+
+    def accept(self, q, pts, rows, cos_sheet):
+        """Whether each point pts[rows[k]] counts for question q[k]: not the asking
+        outline's own within SELF_GAP steps of it (or at all, without a step index), not
+        on another sheet, and within the question's radius or 0.6 of the point's step."""
+        own = self.has_own[q] & (pts.tid[rows] == self.own[q])
+        own &= ~self.has_arc[q] | (np.abs(self.arc[q] - pts.arc[rows]) <= SELF_GAP)
+        ok = ~own
+        if self.kind != KIND_ID["crease"]:
+            qn, n = pts.nrm[rows], self.n[q]
+            ok &= ~self.has_n[q] | ~(qn[:, 0] * n[:, 0] + qn[:, 1] * n[:, 1] + qn[:, 2] * n[:, 2] < cos_sheet)
+        r = np.maximum(self.radius[q], 0.6 * pts.step[rows])
+        e = pts.pos[rows] - self.P[q]
+        return ok & (e[:, 0] * e[:, 0] + e[:, 1] * e[:, 1] + e[:, 2] * e[:, 2] < r * r)
+
+
+class Loop:
+    """The questions of one loop over tasks, in order, and the points it may keep.
+
+    Question q is asked after the loop has decided on the points ``new`` numbered below
+    ``upto[q]``; it sees the table as of the loop's start and those of them the loop
+    kept (:meth:`keep`), as :meth:`TracedPoints.near` would have had they been
+    remembered one by one: the first hit over the 27 cells in order, within a cell
+    the earliest point (the table's before the loop's). :meth:`commit` adds the kept
+    points to the table."""
+    def __init__(self, traced, questions, new=None, upto=None):
+        self.traced, self.questions, self.new = traced, questions, new
+        m = len(questions)
+        self.cell = np.full(m, _NONE, np.int64)     # the first hit's cell in the table, if any
+        self.tid = np.zeros(m, np.int64)
+        self.arc = np.zeros(m, np.int64)
+        table = traced.table[questions.kind]
+        if len(table) and m:
+            q, rows, cell = table.around(questions.P)
+            ok = questions.accept(q, table, rows, traced.cos_sheet)
+            q, rows, cell = q[ok], rows[ok], cell[ok]
+            first = np.lexsort((rows, cell, q))       # arrival order is row order
+            q, rows, cell = q[first], rows[first], cell[first]
+            lead = np.r_[True, q[1:] != q[:-1]] if len(q) else np.zeros(0, bool)
+            q, rows, cell = q[lead], rows[lead], cell[lead]
+            self.cell[q], self.tid[q], self.arc[q] = cell, table.tid[rows], table.arc[rows]
+        self.later = {}                            # question -> [(cell, new point)] that would come first
+        self.kept = np.zeros(0 if new is None else len(new), bool)
+        if new is not None and len(new) and m:
+            q, c, cell = new.around(questions.P)
+            ok = (c < np.asarray(upto)[q]) & questions.accept(q, new, c, traced.cos_sheet)
+            ok &= cell < self.cell[q]                # a new point wins only in an earlier cell
+            q, c, cell = q[ok], c[ok], cell[ok]
+            for k in np.lexsort((c, cell, q)):
+                self.later.setdefault(int(q[k]), []).append((int(c[k]), int(cell[k])))
+
+    def hit(self, q):
+        """(outline id, step index) of the first point near question q, or None."""
+        for c, _ in self.later.get(q, ()):
+            if self.kept[c]:
+                return int(self.new.tid[c]), int(self.new.arc[c])
+        if self.cell[q] < _NONE:
+            return int(self.tid[q]), int(self.arc[q])
+        return None
+
+    def keep(self, c, tid=None):
+        """The loop keeps new point c (as part of outline ``tid``, if given now)."""
+        self.kept[c] = True
+        if tid is not None:
+            self.new.tid[c] = tid
+
+    def commit(self):
+        if self.kept.any():
+            k = np.flatnonzero(self.kept)
+            n = self.new
+            self.traced.add(self.questions.kind, n.pos[k], n.tid[k], n.arc[k], n.nrm[k], n.step[k])
+
+
+class Loops:
+    """A :class:`Loop` over questions and new points of several kinds: each kind's go to
+    that kind's loop (its own table), with their order kept. ``kinds``, ``P``, ``radius``,
+    ``own`` (-1: none), ``arc`` (NO_ARC: none) and ``n`` (NaN: none) per question;
+    ``new``: (kinds, P, n, tid, arc, step) per new point; ``upto`` per question."""
+    def __init__(self, traced, kinds, P, radius, own, arc, n, new=None, upto=None):
+        kinds = np.asarray(kinds, np.int64)
+        m = len(kinds)
+        self.q_kind, self.q_local = kinds.tolist(), np.zeros(m, np.int64)
+        nk = np.asarray(new[0], np.int64) if new is not None else np.zeros(0, np.int64)
+        self.c_kind, self.c_local = nk.tolist(), np.zeros(len(nk), np.int64)
+        self.loops = {}
+        upto = np.zeros(m, np.int64) if upto is None else np.asarray(upto, np.int64)
+        for k in np.union1d(kinds, nk).tolist():
+            qi, ci = np.flatnonzero(kinds == k), np.flatnonzero(nk == k)
+            self.q_local[qi], self.c_local[ci] = np.arange(len(qi)), np.arange(len(ci))
+            pts = None
+            if new is not None:
+                _, NP, Nn, Nt, Na, Ns = new
+                pts = Points(traced.step_len, NP[ci], Nn[ci], Nt[ci], Na[ci], Ns[ci])
+            qs = Questions(k, P[qi], radius[qi], own[qi], arc[qi], n[qi])
+            self.loops[k] = Loop(traced, qs, pts, np.searchsorted(ci, upto[qi]))
+        self.q_local, self.c_local = self.q_local.tolist(), self.c_local.tolist()
+
+    def hit(self, q):
+        return self.loops[self.q_kind[q]].hit(self.q_local[q])
+
+    def keep(self, c, tid=None):
+        self.loops[self.c_kind[c]].keep(self.c_local[c], tid)
+
+    def commit(self):
+        for loop in self.loops.values():
+            loop.commit()
 
 
 class TracedPoints:
     def __init__(self, step_len, crease_angle):
         self.step_len = step_len
         self.cos_sheet = np.cos(0.5 * crease_angle)
-        self.table = {k: {} for k in range(len(FEATURE_KINDS))}   # kind -> cell -> entries
+        self.table = {k: Points(step_len) for k in range(len(FEATURE_KINDS))}
 
-    def _cell(self, x, y, z):
-        s = self.step_len
-        return math.floor(x / s), math.floor(y / s), math.floor(z / s)
+    def add(self, kind, P, tid, arc, n, step):
+        """Traced points of one kind, with their outline's id, their step index along it
+        (0 the seed, + forwards, - backwards), their normals and their outline's step."""
+        new = Points(self.step_len, P, n, np.broadcast_to(tid, (len(np.atleast_2d(P)),)),
+                     np.broadcast_to(arc, (len(np.atleast_2d(P)),)),
+                     np.broadcast_to(step, (len(np.atleast_2d(P)),)))
+        self.table[kind] = self.table[kind].extend(new)
 
     def remember(self, kind, p, tid, arc, n, step=None):
-        """A traced point, with its outline's id, its step index along the outline
-        (0 the seed, + forwards, - backwards), its normal and its outline's step (default
-        the session's; at most that). Kept as Python floats: :meth:`near` runs once per
-        task and iteration, and scalar numpy arithmetic cost it most of its time."""
-        step = self.step_len if step is None else step
-        q = (float(p[0]), float(p[1]), float(p[2]))
-        qn = (float(n[0]), float(n[1]), float(n[2]))
-        self.table[kind].setdefault(self._cell(*q), []).append((tid, q, arc, qn, float(step)))
+        """One traced point (step: default the session's; at most that)."""
+        self.add(kind, np.asarray(p, float)[None], tid, arc, np.asarray(n, float)[None],
+                 self.step_len if step is None else step)
 
     def points(self):
         """Every traced point, of every kind, as an (m, 3) array."""
-        pts = [p for table in self.table.values() for items in table.values() for _, p, _, _, _ in items]
-        return np.array(pts).reshape(-1, 3)
+        return np.concatenate([t.pos for t in self.table.values()])
+
+    def loop(self, kinds, P, radius, own=None, arc=None, n=None, new=None, upto=None):
+        """The questions of a loop over tasks and the points it may keep (:class:`Loops`);
+        own, arc and n may be None for all."""
+        m = len(kinds)
+        own = np.full(m, -1, np.int64) if own is None else np.asarray(own, np.int64)
+        arc = np.full(m, NO_ARC, np.int64) if arc is None else np.asarray(arc, np.int64)
+        n = np.full((m, 3), np.nan) if n is None else np.asarray(n, float)
+        return Loops(self, kinds, np.asarray(P, float).reshape(-1, 3), np.broadcast_to(radius, (m,)), own, arc, n,
+                     new, upto)
 
     def near(self, kind, p, radius, own, arc=None, n=None):
         """A traced point of this kind within radius of p, as (outline id, step index),
@@ -46,26 +213,8 @@ class TracedPoints:
         a different outline ends) do not count; crease points have no one normal. A
         point of an outline traced with longer steps counts within 0.6 of its step:
         points of a smaller scale's trace that runs along it are that close to it."""
-        sheet = n is not None and kind != KIND_ID["crease"]
-        px, py, pz = float(p[0]), float(p[1]), float(p[2])
-        if sheet:
-            nx, ny, nz = float(n[0]), float(n[1]), float(n[2])
-        cx, cy, cz = self._cell(px, py, pz)
-        cos = self.cos_sheet
-        radius = float(radius)
-        get = self.table[kind].get
-        # the 27 cells around p, in the order of nested loops over dx, dy, dz
-        for key in product((cx - 1, cx, cx + 1), (cy - 1, cy, cy + 1), (cz - 1, cz, cz + 1)):
-            for tid, q, qa, qn, qs in get(key, ()):
-                if tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
-                    continue
-                if sheet and qn[0] * nx + qn[1] * ny + qn[2] * nz < cos:
-                    continue
-                r = max(radius, 0.6 * qs)
-                ex, ey, ez = q[0] - px, q[1] - py, q[2] - pz
-                if ex * ex + ey * ey + ez * ez < r * r:
-                    return (tid, qa)
-        return None
+        return self.loop([kind], p, radius, None if own is None else [own], None if arc is None else [arc],
+                         None if n is None else [n]).hit(0)
 
 
 def consume_crossed(session, kinds, X, n, W, steps):

@@ -10,7 +10,7 @@ from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from . import crease_seeds
 from .outline import Outline
 from .tracer import refine_seeds, trace_step
-from .traced import SELF_GAP, consume_crossed
+from .traced import NO_ARC, SELF_GAP, consume_crossed
 
 SEED_PAUSE = 8          # bisection iterations a seed's refinement takes per system iteration
 SEED_ROUNDS = 6         # ... in at most this many system iterations
@@ -61,10 +61,15 @@ def start(self, ids):
     base = self.settings.step * f["cell"][ids]          # the seed's scale sets its trace's step
     needs = np.where(kinds == KIND_ID["crease"], 2, 1)
     later = int(needs[valid].sum())          # agents the seeds still to start need, one way
-    for i in np.flatnonzero(valid):
+    todo = np.flatnonzero(valid)
+    # is an outline traced through the seed already (or through a seed started before it)?
+    m = len(todo)
+    loop = self.traced.loop(kinds[todo], X[todo], base[todo], n=n[todo], upto=np.arange(m),
+                            new=(kinds[todo], X[todo], n[todo], np.zeros(m), np.zeros(m), base[todo]))
+    for j, i in enumerate(todo):
         k, need = int(kinds[i]), int(needs[i])
         later -= need
-        if self.traced.near(k, X[i], base[i], None, n=n[i]) is not None:
+        if loop.hit(j) is not None:
             continue
         # a task each way from the seed where agents are free for both, after every
         # seed taken has its first (a seed left open may be consumed by a trace that
@@ -84,7 +89,8 @@ def start(self, ids):
             self.traces.append(tr)
         self.traces[-1 - paired].fwd.append(X[i])
         self.traces[-1 - paired].fwd_n.append(n[i])
-        self.traced.remember(k, X[i], tid, 0, n[i], base[i])
+        loop.keep(j, tid)
+    loop.commit()
 
 
 def requeue(self, ids, A, B):
@@ -123,6 +129,25 @@ def step(self):
     # half's last point for a backward half
     other = np.array([t.start if t.phase == "fwd" or not t.fwd else t.fwd[-1] for t in trs])
     at_other = np.linalg.norm(X - other, axis=1) < 0.75 * base
+    arcs = np.array([len(t.fwd) if t.phase == "fwd" else -(len(t.bwd) + 1) for t in trs], np.int64)
+    ids = np.array([t.id for t in trs], np.int64)
+    # which outline each new point meets (and, for a forward half ending without its
+    # pair, whether one passes its seed), in loop order: see traced.Loops
+    got = np.flatnonzero(ok)
+    q = np.full(len(trs), -1)
+    q[got] = np.arange(len(got))
+    lone = np.flatnonzero([t.phase == "fwd" and not t.paired for t in trs])
+    sw = np.full(len(trs), -1)
+    sw[lone] = len(got) + np.arange(len(lone))
+    loop = self.traced.loop(
+        np.concatenate([kinds[got], kinds[lone]]),
+        np.concatenate([X[got], np.array([trs[i].start for i in lone]).reshape(-1, 3)]),
+        np.concatenate([base[got], base[lone]]), np.concatenate([ids[got], ids[lone]]),
+        np.concatenate([arcs[got], np.full(len(lone), NO_ARC)]),
+        np.concatenate([n[got], np.array([trs[i].fwd_n[0] for i in lone]).reshape(-1, 3)]),
+        new=(kinds[got], X[got], n[got], ids[got], arcs[got], base[got]),
+        upto=np.concatenate([np.arange(len(got)), np.searchsorted(got, lone)]))
+    q, sw = q.tolist(), sw.tolist()
     still = []
     covered = []                           # trace points appended this iteration
     for i, tr in enumerate(trs):
@@ -136,10 +161,9 @@ def step(self):
         else:
             mine = tr.fwd if tr.phase == "fwd" else tr.bwd
             steps = len(tr.fwd) + len(tr.bwd)
-            arc = len(tr.fwd) if tr.phase == "fwd" else -(len(tr.bwd) + 1)
             if steps >= 4 and at_other[i]:
                 end = "closed"
-            elif (hit := self.traced.near(tr.kind, X[i], tr.base, tr.id, arc, n[i])) is not None:
+            elif (hit := loop.hit(q[i])) is not None:
                 # an outline is here: stop short; come round onto its own seed, it closed
                 end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
             elif steps >= self.settings.max_outline_steps:
@@ -147,7 +171,7 @@ def step(self):
             else:
                 mine.append(X[i])
                 (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
-                self.traced.remember(tr.kind, X[i], tr.id, arc, n[i], tr.base)
+                loop.keep(q[i])
                 tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
                 tr.pins, tr.team = st.pins[i], (st.A[i], st.B[i])
                 tr.h = min(tr.base, 1.5 * tr.h)
@@ -157,8 +181,7 @@ def step(self):
         elif end == "closed":
             tr.closed = True
             finish(self, tr)
-        elif tr.phase == "fwd" and not tr.paired and self.traced.near(tr.kind, tr.start, tr.base, tr.id,
-                                                                      n=tr.fwd_n[0]) is None:
+        elif tr.phase == "fwd" and not tr.paired and loop.hit(sw[i]) is None:
             tr.phase = "bwd"           # trace the other way from the seed
             tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
             tr.h = tr.base
@@ -167,6 +190,7 @@ def step(self):
             still.append(tr)
         else:
             finish(self, tr)
+    loop.commit()
     self.traces = still
     W = np.where((kinds == KIND_ID["crease"])[:, None], refn, np.cross(n, Tn))
     W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)

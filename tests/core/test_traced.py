@@ -117,3 +117,69 @@ def test_pairs_within_are_those_of_every_distance():
     np.testing.assert_array_equal(got_ids, ids[has])
     np.testing.assert_array_equal(which, d2[has].argmin(axis=1))     # argmin: the first of equal ones
     assert len(np.unique(d2[has].min(axis=1))) < len(has)             # some ties among them
+
+
+def _first_near(step_len, cos_sheet, entries, kind, p, radius, own, arc, n):
+    """The rule of TracedPoints.near written out plainly: of the points (in the order
+    they came) of this kind in the 27 cells of one step around p, taken cell by cell
+    (nested loops over dx, dy, dz), the first that counts."""
+    from itertools import product
+    from blobtree_ink.agents.traced import SELF_GAP
+    c = np.floor(p / step_len).astype(int)
+    for off in product((-1, 0, 1), repeat=3):
+        for k, q, tid, qa, qn, qs in entries:
+            if k != kind or tuple(np.floor(q / step_len).astype(int) - c) != off:
+                continue
+            if own is not None and tid == own and (arc is None or abs(arc - qa) <= SELF_GAP):
+                continue
+            if n is not None and kind != KIND_ID["crease"] and qn @ n < cos_sheet:
+                continue
+            r = max(radius, 0.6 * qs)
+            if ((q - p) ** 2).sum() < r * r:
+                return (tid, qa)
+    return None
+
+
+def test_a_loop_of_questions_sees_the_points_kept_before_each_as_if_remembered_one_by_one():
+    """traced.Loops answers a loop's questions in one batch: each sees the table as of
+    the loop's start and the new points the loop kept before it (not those it passed
+    over, nor later ones), the first hit in the order of the plain rule (cells in
+    order; within a cell the earliest point, the table's before the loop's)."""
+    from blobtree_ink.agents.traced import NO_ARC, TracedPoints
+    rng = np.random.default_rng(7)
+    step = 0.1
+    tp = TracedPoints(step, np.radians(35.0))
+    entries = []
+    for _ in range(150):                    # the table before the loop, one by one
+        k, q = int(rng.integers(0, 2)), rng.random(3) * 0.5
+        nq = rng.normal(size=3)
+        nq /= np.linalg.norm(nq)
+        tid, qa, qs = int(rng.integers(0, 6)), int(rng.integers(-20, 20)), float(rng.choice([step, 0.2 * step]))
+        tp.remember(k, q, tid, qa, nq, qs)
+        entries.append((k, q, tid, qa, nq, qs))
+    m = 120
+    kinds = rng.integers(0, 2, m)
+    P = rng.random((m, 3)) * 0.5
+    N = rng.normal(size=(m, 3))
+    N /= np.linalg.norm(N, axis=1, keepdims=True)
+    N[::7] = np.nan                                      # some without a normal
+    radius = rng.choice([step, 0.3 * step], m)
+    own = np.where(rng.random(m) < 0.5, rng.integers(0, 6, m), -1)
+    arc = np.where(rng.random(m) < 0.7, rng.integers(-20, 20, m), NO_ARC)
+    steps = rng.choice([step, 0.2 * step], m)
+    loop = tp.loop(kinds, P, radius, own, arc, N, new=(kinds, P, N, own.clip(0), arc.clip(-20), steps),
+                   upto=np.arange(m))
+    hits = 0
+    for i in range(m):
+        want = _first_near(step, tp.cos_sheet, entries, kinds[i], P[i], radius[i], None if own[i] < 0 else own[i],
+                           None if arc[i] == NO_ARC else arc[i], None if np.isnan(N[i, 0]) else N[i])
+        assert loop.hit(i) == want
+        hits += want is not None
+        if want is None and rng.random() < 0.8:                 # the loop keeps most of the rest
+            loop.keep(i)
+            entries.append((kinds[i], P[i], max(own[i], 0), max(arc[i], -20), N[i], steps[i]))
+    assert 20 < hits < m - 20
+    loop.commit()                                             # the kept points join the table
+    for i in range(0, m, 3):
+        assert tp.near(kinds[i], P[i] + 0.01, step, None) == _first_near(
+            step, tp.cos_sheet, entries, kinds[i], P[i] + 0.01, step, None, None, None)
