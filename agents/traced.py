@@ -9,7 +9,7 @@ itself keeps before each question through the pairs found at its start, resolved
 goes; a question alone is a loop of one."""
 import numpy as np
 
-from ..blackboard.board import FEATURE_KINDS, KIND_ID, _NEIGHBOURS, pack
+from ..blackboard.board import FEATURE_KINDS, KIND_ID, _NEIGHBOURS, pack, pack_around
 
 SELF_GAP = 6        # steps along an outline within which its own points do not stop it
 _NONE = len(_NEIGHBOURS)        # no hit: beyond the last of the 27 cells
@@ -42,7 +42,7 @@ class Points:
     def around(self, P):
         """(point, row, cell) for every row in the 27 cells around each point P[i]; cell
         is the index of the row's cell among them (nested loops over dx, dy, dz)."""
-        keys = pack(np.floor(P / self.step_len).astype(np.int64)[:, None, :] + _NEIGHBOURS[None]).ravel()
+        keys = pack_around(np.floor(P / self.step_len).astype(np.int64)).ravel()
         lo = np.searchsorted(self.sorted_key, keys, "left")
         count = np.searchsorted(self.sorted_key, keys, "right") - lo
         slot = np.repeat(np.arange(len(keys)), count)

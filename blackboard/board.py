@@ -59,6 +59,24 @@ def pack(ijk):
 
 
 _NEIGHBOURS = np.array([(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)], np.int64)
+_NEIGHBOUR_KEYS = (_NEIGHBOURS[:, 0] << 42) + (_NEIGHBOURS[:, 1] << 21) + _NEIGHBOURS[:, 2]
+
+
+def pack_around(ijk):
+    """(k, 27) packed keys of the 3x3x3 neighbourhood of each voxel (k, 3), in the
+    order of _NEIGHBOURS: a voxel's key plus each offset's (packing is linear while
+    every index stays in range, which the check of the voxels one step out ensures)."""
+    ijk = np.asarray(ijk, np.int64).reshape(-1, 3)
+    if ijk.size and (ijk.min() - 1 < -_OFF or ijk.max() + 1 >= _OFF):
+        raise ValueError("voxel index out of the blackboard's range (|i| < 2^20)")
+    return pack(ijk)[:, None] + _NEIGHBOUR_KEYS[None, :]
+
+
+def unpack(keys):
+    """The voxel triples (k, 3) of packed keys."""
+    keys = np.asarray(keys, np.int64)
+    mask = (1 << 21) - 1
+    return np.stack([keys >> 42, (keys >> 21) & mask, keys & mask], axis=-1) - _OFF
 
 
 _CORNERS = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.int64)
@@ -84,7 +102,7 @@ def pairs_within(A, B, r):
     kb = pack(np.floor((B - lo) / cell).astype(np.int64))
     order = np.argsort(kb, kind="stable")
     kb = kb[order]
-    ka = pack(np.floor((A - lo) / cell).astype(np.int64)[:, None, :] + _NEIGHBOURS[None]).ravel()
+    ka = pack_around(np.floor((A - lo) / cell).astype(np.int64)).ravel()
     start = np.searchsorted(kb, ka, "left")
     count = np.searchsorted(kb, ka, "right") - start
     i = np.repeat(np.arange(len(ka)) // len(_NEIGHBOURS), count)
@@ -127,7 +145,8 @@ class Blackboard:
         self.vox = Grow(ijk=((3,), np.int64, 0), corners_in=((), np.int8, 0), theta=((), float, 0.0),
                         surface=((), bool, False), features=((), np.int64, 0), samples=((), np.int64, 0),
                         sum=((), float, 0.0), sumsq=((), float, 0.0), fmin=((), float, np.inf),
-                        fmax=((), float, -np.inf), path_steps=((), np.int64, 0))
+                        fmax=((), float, -np.inf), path_steps=((), np.int64, 0),
+                        nbr=((len(_NEIGHBOURS),), np.int64, -1))
         self.smp = Grow(pos=((3,), float, 0.0), f=((), float, 0.0), grad=((3,), float, 0.0),
                         mean=((), float, np.nan), gauss=((), float, np.nan), dir1=((3,), float, 0.0),
                         voxel=((), np.int64, -1), kind=((), np.int8, 0))
@@ -155,7 +174,9 @@ class Blackboard:
             self.index.insert(new, new_rows)
             rows[miss] = new_rows[inv.reshape(-1)]
             self.vox.add(len(new), ijk=ijk[miss][first[order]])
-            self._corner_info(np.arange(self.vox.n - len(new), self.vox.n))
+            added = np.arange(self.vox.n - len(new), self.vox.n)
+            self._corner_info(added)
+            self._link(added)
         return rows
 
     def _corner_info(self, rows):
@@ -179,10 +200,20 @@ class Blackboard:
     def set_theta(self, rows, theta):
         self.vox.cols["theta"][rows] = theta
 
+    def _link(self, rows):
+        """Fill the neighbour rows of new voxels (rows: the last ones, in order), and
+        theirs in the older voxels around them (offset k seen from the other side is
+        offset 26 - k)."""
+        ijk = self.vox["ijk"][rows]
+        nb = self.index.lookup(pack_around(ijk))
+        table = self.vox.cols["nbr"]
+        table[rows] = nb
+        r, k = np.nonzero((nb >= 0) & (nb < rows[0]))         # the voxels there before
+        table[nb[r, k], len(_NEIGHBOURS) - 1 - k] = rows[r]
+
     def neighbours(self, rows):
         """(k, 27) rows of the 3x3x3 neighbourhood of each voxel (-1 where absent)."""
-        ijk = self.vox["ijk"][np.asarray(rows, np.int64)]
-        return self.index.lookup(pack(ijk[:, None, :] + _NEIGHBOURS[None, :, :]))
+        return self.vox["nbr"][np.asarray(rows, np.int64)]
 
     # --- samples --------------------------------------------------------------------
     def add_samples(self, pos, f, grad, kind, curv=None):
@@ -266,7 +297,7 @@ def from_mesh(mesh: Mesh, ev, curvature_fn):
     bb = Blackboard(mesh.grid, ev.iso)
     cells = mesh.cells
     # surface voxels and their 26 neighbours
-    around = _unique_ijk((cells[:, None, :] + _NEIGHBOURS[None]).reshape(-1, 3))
+    around = unpack(np.unique(pack_around(cells)))
     bb.voxel_rows(around)
     srows = bb.voxel_rows(cells)
     bb.vox.cols["surface"][srows] = True
