@@ -112,11 +112,19 @@ def pairs_within(A, B, r):
 
 
 class VoxelIndex:
-    """Packed voxel keys -> rows: a sorted key array and the rows in the same order."""
+    """Voxel keys -> rows: a sorted key array and the rows in the same order, and a
+    dense array of rows over a box of voxels (the grid's, with a margin: where the
+    polygonisation's voxels and their neighbours lie) for the neighbourhoods of many
+    voxels at once."""
 
-    def __init__(self):
+    def __init__(self, lo=(0, 0, 0), shape=(0, 0, 0)):
         self.keys = np.zeros(0, np.int64)
         self.rows = np.zeros(0, np.int64)
+        self.lo = np.asarray(lo, np.int64)
+        self.shape = np.asarray(shape, np.int64)
+        self.dense = np.full(int(np.prod(self.shape)), -1, np.int64)
+        self.strides = np.array([self.shape[1] * self.shape[2], self.shape[2], 1], np.int64)
+        self.offsets = _NEIGHBOURS @ self.strides            # of the 27 neighbours in the box
 
     def __len__(self):
         return len(self.keys)
@@ -128,11 +136,26 @@ class VoxelIndex:
         i = np.minimum(np.searchsorted(self.keys, keys), len(self.keys) - 1)
         return np.where(self.keys[i] == keys, self.rows[i], -1)
 
-    def insert(self, keys, rows):
+    def _in_box(self, ijk, margin):
+        return np.all((ijk - margin >= self.lo) & (ijk + margin < self.lo + self.shape), axis=1)
+
+    def insert(self, keys, rows, ijk):
         keys = np.concatenate([self.keys, np.asarray(keys, np.int64)])
-        rows = np.concatenate([self.rows, np.asarray(rows, np.int64)])
+        rows_all = np.concatenate([self.rows, np.asarray(rows, np.int64)])
         order = np.argsort(keys, kind="stable")
-        self.keys, self.rows = keys[order], rows[order]
+        self.keys, self.rows = keys[order], rows_all[order]
+        inside = self._in_box(ijk, 0)
+        self.dense[(ijk[inside] - self.lo) @ self.strides] = np.asarray(rows, np.int64)[inside]
+
+    def around(self, ijk):
+        """(k, 27) rows of the 3x3x3 neighbourhood of each voxel (k, 3), -1 where absent
+        (the dense box where the whole neighbourhood lies in it, else the keys)."""
+        inside = self._in_box(ijk, 1)
+        out = np.empty((len(ijk), len(_NEIGHBOURS)), np.int64)
+        out[inside] = self.dense[((ijk[inside] - self.lo) @ self.strides)[:, None] + self.offsets[None, :]]
+        if not inside.all():
+            out[~inside] = self.lookup(pack_around(ijk[~inside]))
+        return out
 
 
 class Blackboard:
@@ -141,7 +164,7 @@ class Blackboard:
         self.iso = iso
         self.h = float(grid.cell[0])
         self.lo = grid.lo.copy()
-        self.index = VoxelIndex()             # packed (i, j, k) -> voxel row
+        self.index = VoxelIndex(-2, np.asarray(grid.res) + 4)   # (i, j, k) -> voxel row
         self.vox = Grow(ijk=((3,), np.int64, 0), corners_in=((), np.int8, 0), theta=((), float, 0.0),
                         surface=((), bool, False), features=((), np.int64, 0), samples=((), np.int64, 0),
                         sum=((), float, 0.0), sumsq=((), float, 0.0), fmin=((), float, np.inf),
@@ -171,7 +194,7 @@ class Blackboard:
             rank = np.empty(len(new), np.int64)
             rank[order] = np.arange(len(new))
             new_rows = self.vox.n + rank
-            self.index.insert(new, new_rows)
+            self.index.insert(new, new_rows, ijk[miss][first])
             rows[miss] = new_rows[inv.reshape(-1)]
             self.vox.add(len(new), ijk=ijk[miss][first[order]])
             added = np.arange(self.vox.n - len(new), self.vox.n)
@@ -204,8 +227,7 @@ class Blackboard:
         """Fill the neighbour rows of new voxels (rows: the last ones, in order), and
         theirs in the older voxels around them (offset k seen from the other side is
         offset 26 - k)."""
-        ijk = self.vox["ijk"][rows]
-        nb = self.index.lookup(pack_around(ijk))
+        nb = self.index.around(self.vox["ijk"][rows])
         table = self.vox.cols["nbr"]
         table[rows] = nb
         r, k = np.nonzero((nb >= 0) & (nb < rows[0]))         # the voxels there before

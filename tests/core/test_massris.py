@@ -176,13 +176,14 @@ def test_priorities_reproduce_equations_1_to_3():
 def test_voxel_neighbours_stay_those_of_the_hash_as_voxels_are_added():
     """The blackboard keeps each voxel's 27 neighbour rows as voxels come (agents add
     voxels the polygonisation missed): after batches in any order, including voxels
-    beside earlier ones and duplicates, they are exactly what looking up the hash gives."""
+    beside earlier ones and duplicates, inside the grid's box and outside it, they are
+    exactly what looking up the hash gives."""
     from blobtree_ink.blackboard.board import _NEIGHBOURS, pack
     grid = Grid(lo=np.zeros(3), cell=np.ones(3), res=(6, 6, 6), field=np.zeros((7, 7, 7)))
     bb = Blackboard(grid, 0.5)
     rng = np.random.default_rng(5)
-    for size in (40, 1, 25, 60, 3):
-        bb.voxel_rows(rng.integers(-2, 8, (size, 3)))
+    for size in (200, 1, 150, 300, 3):
+        bb.voxel_rows(rng.integers(-5, 11, (size, 3)))
         rows = np.arange(bb.vox.n)
         want = bb.index.lookup(pack(bb.vox["ijk"][rows][:, None, :] + _NEIGHBOURS[None]))
         np.testing.assert_array_equal(bb.neighbours(rows), want)
