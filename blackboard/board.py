@@ -169,7 +169,7 @@ class Blackboard:
                         surface=((), bool, False), features=((), np.int64, 0), samples=((), np.int64, 0),
                         sum=((), float, 0.0), sumsq=((), float, 0.0), fmin=((), float, np.inf),
                         fmax=((), float, -np.inf), path_steps=((), np.int64, 0),
-                        nbr=((len(_NEIGHBOURS),), np.int64, -1))
+                        nbr=((len(_NEIGHBOURS),), np.int32, -1))
         self.smp = Grow(pos=((3,), float, 0.0), f=((), float, 0.0), grad=((3,), float, 0.0),
                         mean=((), float, np.nan), gauss=((), float, np.nan), dir1=((3,), float, 0.0),
                         voxel=((), np.int64, -1), kind=((), np.int8, 0))
