@@ -107,7 +107,7 @@ class Session:
         self.explore_queue = []     # voxel rows waiting for an explorer
         self.explored = set()
         self.done_outlines = []
-        self.traced = TracedPoints(self.step_len, self.settings.crease_angle)
+        self.traced = TracedPoints(self.step_len, self.settings.crease_angle, self.bb.lo)
         self.requests = []
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once

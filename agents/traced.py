@@ -19,15 +19,15 @@ NO_ARC = np.iinfo(np.int64).min  # a question without a step index
 class Points:
     """Trace points of one kind as columns (pos, normal, outline id, step index, step),
     with their cells' keys, sorted by key and, within a key, in the order they came."""
-    def __init__(self, step_len, pos=None, nrm=None, tid=None, arc=None, step=None):
-        self.step_len = step_len
+    def __init__(self, step_len, origin, pos=None, nrm=None, tid=None, arc=None, step=None):
+        self.step_len, self.origin = step_len, origin
         self.pos = np.zeros((0, 3)) if pos is None else np.array(pos, float).reshape(-1, 3)
         m = len(self.pos)
         self.nrm = np.zeros((m, 3)) if nrm is None else np.array(nrm, float).reshape(-1, 3)
         self.tid = np.zeros(m, np.int64) if tid is None else np.array(tid, np.int64).reshape(-1)
         self.arc = np.zeros(m, np.int64) if arc is None else np.array(arc, np.int64).reshape(-1)
         self.step = np.zeros(m) if step is None else np.array(step, float).reshape(-1)
-        self.key = pack(np.floor(self.pos / step_len).astype(np.int64))
+        self.key = pack(self._cells(self.pos))
         self.order = np.argsort(self.key, kind="stable")      # rows by (key, arrival)
         self.sorted_key = self.key[self.order]
 
@@ -37,12 +37,15 @@ class Points:
     def extend(self, other):
         """These points followed by ``other``'s."""
         cols = [np.concatenate([getattr(self, c), getattr(other, c)]) for c in ("pos", "nrm", "tid", "arc", "step")]
-        return Points(self.step_len, *cols)
+        return Points(self.step_len, self.origin, *cols)
+
+    def _cells(self, P):
+        return np.floor((P - self.origin) / self.step_len).astype(np.int64)
 
     def around(self, P):
         """(point, row, cell) for every row in the 27 cells around each point P[i]; cell
         is the index of the row's cell among them (nested loops over dx, dy, dz)."""
-        keys = pack_around(np.floor(P / self.step_len).astype(np.int64)).ravel()
+        keys = pack_around(self._cells(P)).ravel()
         lo = np.searchsorted(self.sorted_key, keys, "left")
         count = np.searchsorted(self.sorted_key, keys, "right") - lo
         slot = np.repeat(np.arange(len(keys)), count)
@@ -154,7 +157,7 @@ class Loops:
             pts = None
             if new is not None:
                 _, NP, Nn, Nt, Na, Ns = new
-                pts = Points(traced.step_len, NP[ci], Nn[ci], Nt[ci], Na[ci], Ns[ci])
+                pts = Points(traced.step_len, traced.origin, NP[ci], Nn[ci], Nt[ci], Na[ci], Ns[ci])
             qs = Questions(k, P[qi], radius[qi], own[qi], arc[qi], n[qi])
             self.loops[k] = Loop(traced, qs, pts, np.searchsorted(ci, upto[qi]))
         self.q_local, self.c_local = self.q_local.tolist(), self.c_local.tolist()
@@ -171,15 +174,18 @@ class Loops:
 
 
 class TracedPoints:
-    def __init__(self, step_len, crease_angle):
+    def __init__(self, step_len, crease_angle, origin=None):
+        """``origin``: where cells of one step start (a point near the model: cell
+        indices stay small however far from 0 the model lies)."""
         self.step_len = step_len
         self.cos_sheet = np.cos(0.5 * crease_angle)
-        self.table = {k: Points(step_len) for k in range(len(FEATURE_KINDS))}
+        self.origin = np.zeros(3) if origin is None else np.asarray(origin, float)
+        self.table = {k: Points(step_len, self.origin) for k in range(len(FEATURE_KINDS))}
 
     def add(self, kind, P, tid, arc, n, step):
         """Traced points of one kind, with their outline's id, their step index along it
         (0 the seed, + forwards, - backwards), their normals and their outline's step."""
-        new = Points(self.step_len, P, n, np.broadcast_to(tid, (len(np.atleast_2d(P)),)),
+        new = Points(self.step_len, self.origin, P, n, np.broadcast_to(tid, (len(np.atleast_2d(P)),)),
                      np.broadcast_to(arc, (len(np.atleast_2d(P)),)),
                      np.broadcast_to(step, (len(np.atleast_2d(P)),)))
         self.table[kind] = self.table[kind].extend(new)

@@ -8,7 +8,7 @@ from blobtree_ink.agents.traced import consume_crossed
 from blobtree_ink.blackboard.board import KIND_ID, pairs_within
 from blobtree_ink.blackboard.view import View
 
-from test_massris import K, model_of
+from test_massris import K, check_on_surface, model_of, run
 
 SPHERE = {"type": "point", "center": [0, 0, 0], "radius": 1.0}
 
@@ -183,3 +183,16 @@ def test_a_loop_of_questions_sees_the_points_kept_before_each_as_if_remembered_o
     for i in range(0, m, 3):
         assert tp.near(kinds[i], P[i] + 0.01, step, None) == _first_near(
             step, tp.cos_sheet, entries, kinds[i], P[i] + 0.01, step, None, None, None)
+
+
+def test_a_model_far_from_the_origin_is_traced():
+    """Trace points are hashed in cells counted from the blackboard's corner, not from
+    0: a sphere three million units out (its cells from 0 would not pack into the
+    hash's 21 bits per axis) gets its silhouette, one closed circle round it."""
+    c = np.array([3e6, 0.0, 0.0])
+    s = run(model_of({**SPHERE, "center": c.tolist()}), View(eye=tuple(c + [0.0, -6.0, 0.0])), resolution=16)
+    out = s.outlines()
+    assert len(out) == 1 and out[0].closed
+    check_on_surface(s, out[0])
+    ang = np.sort(np.arctan2(out[0].points[:, 2] - c[2], out[0].points[:, 0] - c[0]))
+    assert np.diff(np.r_[ang, ang[0] + 2 * np.pi]).max() < 0.2           # all the way round
