@@ -35,9 +35,17 @@ class Points:
         return len(self.pos)
 
     def extend(self, other):
-        """These points followed by ``other``'s."""
-        cols = [np.concatenate([getattr(self, c), getattr(other, c)]) for c in ("pos", "nrm", "tid", "arc", "step")]
-        return Points(self.step_len, self.origin, *cols)
+        """These points followed by ``other``'s: the columns appended, and ``other``'s rows
+        merged into the sorted order after the rows of equal keys (no key computed or
+        sorted again)."""
+        out = Points.__new__(Points)
+        out.step_len, out.origin = self.step_len, self.origin
+        for c in ("pos", "nrm", "tid", "arc", "step", "key"):
+            setattr(out, c, np.concatenate([getattr(self, c), getattr(other, c)]))
+        at = np.searchsorted(self.sorted_key, other.sorted_key, "right")
+        out.order = np.insert(self.order, at, other.order + len(self))
+        out.sorted_key = np.insert(self.sorted_key, at, other.sorted_key)
+        return out
 
     def _cells(self, P):
         return np.floor((P - self.origin) / self.step_len).astype(np.int64)
