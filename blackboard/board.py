@@ -84,9 +84,7 @@ _CORNERS = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)],
 
 def _unique_ijk(ijk):
     """Distinct voxel triples, in packed-key order."""
-    ijk = np.asarray(ijk, np.int64).reshape(-1, 3)
-    _, first = np.unique(pack(ijk), return_index=True)
-    return ijk[first]
+    return unpack(np.unique(pack(np.asarray(ijk, np.int64).reshape(-1, 3))))
 
 
 def pairs_within(A, B, r):
@@ -319,7 +317,7 @@ def from_mesh(mesh: Mesh, ev, curvature_fn):
     bb = Blackboard(mesh.grid, ev.iso)
     cells = mesh.cells
     # surface voxels and their 26 neighbours
-    around = unpack(np.unique(pack_around(cells)))
+    around = unpack(np.unique(pack_around(cells)))     # as _unique_ijk, from the neighbours' keys
     bb.voxel_rows(around)
     srows = bb.voxel_rows(cells)
     bb.vox.cols["surface"][srows] = True
