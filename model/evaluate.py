@@ -238,9 +238,8 @@ def _shape(t, P, kk, need_grad, stats, ctx=None):
     if isinstance(t, StackedGroup):
         if t.m == 1:            # one pair per point, member kk; _single as for one member
             return G.evaluate_pairs(t.prm, t.reduce, t.n, P, kk, None, v, need_grad, stats)
-        pp = np.repeat(np.arange(v), t.m)
-        idx = (kk * t.m)[pp] + np.tile(np.arange(t.m), v)
-        return G.evaluate_pairs(t.prm, t.reduce, t.n, np.repeat(P, t.m, axis=1), idx, pp, v, need_grad, stats,
+        pp, idx, counts = t.pairs(P, kk)
+        return G.evaluate_pairs(t.prm, t.reduce, t.n, np.repeat(P, counts, axis=1), idx, pp, v, need_grad, stats,
                                 ctx, t)
     kids = [(None, *_shape(c, P, kk, need_grad, stats, ctx)) for c in t.children]
     return _combine(t, kids, v, need_grad, ctx)

@@ -59,23 +59,7 @@ class Group:
             pp = np.repeat(np.arange(n), self.m)
             pi = np.tile(np.arange(self.m), n)
             return pp, pi, np.full(n, self.m)
-        g = self.grid
-        lo, inv, dims = g["lo"], g["inv_cs"], g["dims"]
-        ok = np.ones(n, bool)
-        flat = np.zeros(n, np.int64)
-        for k in range(3):
-            c = np.floor((P[k] - lo[k]) * inv).astype(np.int64)
-            ok &= (c >= 0) & (c < dims[k])
-            flat += c * g["stride"][k]
-        flat[~ok] = g["empty"]
-        start = g["offsets"][flat]
-        counts = g["offsets"][flat + 1] - start
-        total = int(counts.sum())
-        pp = np.repeat(np.arange(n), counts)
-        # position of each pair inside its cell's list
-        local = np.arange(total) - np.repeat(np.cumsum(counts) - counts - start, counts)
-        pi = g["items"][local]
-        return pp, pi, counts
+        return grid_pairs(self.grid, P)
 
     def evaluate(self, P, need_grad, stats=None, ctx=None):
         pp, pi, counts = self.pairs(P)
@@ -83,6 +67,29 @@ class Group:
         # pairs beyond a primitive's radius just give 0 (no compaction pass)
         Q = P if pi is None else np.repeat(P, counts, axis=1)
         return evaluate_pairs(self.prm, self.reduce, self.n, Q, pi, pp, P.shape[1], need_grad, stats, ctx, self)
+
+
+def grid_pairs(g, P):
+    """Candidate pairs of P (3, n) from a grid (:func:`_build_grid`): point index and
+    primitive index of each pair, sorted by point and, within a point, by primitive
+    (the order of every member on every point, less the ones too far to count), and
+    the number of pairs of each point."""
+    n = P.shape[1]
+    lo, inv, dims = g["lo"], g["inv_cs"], g["dims"]
+    ok = np.ones(n, bool)
+    flat = np.zeros(n, np.int64)
+    for k in range(3):
+        c = np.floor((P[k] - lo[k]) * inv).astype(np.int64)
+        ok &= (c >= 0) & (c < dims[k])
+        flat += c * g["stride"][k]
+    flat[~ok] = g["empty"]
+    start = g["offsets"][flat]
+    counts = g["offsets"][flat + 1] - start
+    total = int(counts.sum())
+    pp = np.repeat(np.arange(n), counts)
+    # position of each pair inside its cell's list
+    local = np.arange(total) - np.repeat(np.cumsum(counts) - counts - start, counts)
+    return pp, g["items"][local], counts
 
 
 def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx=None, node=None):

@@ -14,12 +14,15 @@ evaluation.
 import numpy as np
 
 from . import primitives as PR
+from . import groups as G
 from .groups import Group
 
 STACK_MIN = 3                 # fewer identical subtrees are left as they are
 PAIR_BLOCK = 1 << 22          # booleans per block of the (point, member) box test
-STACK_MAX_PRIMS = 16          # larger subtrees keep their own spatial pruning (a stack
-                              # evaluates every primitive of a member on each of its points)
+# subtrees that would evaluate more primitives than this on each point keep their own
+# spatial pruning (a stack evaluates every position of a member on each of its points:
+# every primitive of a small group, the nearby ones of a gridded group)
+STACK_MAX_PRIMS = 16
 
 
 def signature(node):
@@ -40,17 +43,44 @@ def signature(node):
 
 
 def _prims(sig):
-    return sig[2] if sig[0] == "group" else sum(_prims(k) for k in sig[4])
+    """The primitives a member of this shape evaluates on each point, counting a gridded
+    group (which meets only the few near a point) as one."""
+    if sig[0] == "group":
+        return 1 if sig[2] >= G.GRID_MIN_MEMBERS else sig[2]
+    return sum(_prims(k) for k in sig[4])
 
 
 class StackedGroup:
     """The groups at one position of every member: K * m primitives, member k's at
-    rows k*m .. k*m + m - 1."""
+    rows k*m .. k*m + m - 1. Groups of GRID_MIN_MEMBERS or more get one candidate grid
+    over all K * m primitives (built on first use), as a plain group has over its own."""
 
     def __init__(self, groups):
         self.m = groups[0].m
         self.reduce, self.n = groups[0].reduce, groups[0].n
         self.prm = PR.pack([p for g in groups for p in g.sources])
+        self._gridded = self.m >= G.GRID_MIN_MEMBERS
+        self._grid = None
+
+    @property
+    def grid(self):
+        if self._gridded and self._grid is None:
+            self._grid = G._build_grid(self.prm, *PR.support_bounds(self.prm))
+        return self._grid
+
+    def pairs(self, P, kk):
+        """(pair, primitive) pairs for pair points P (3, v), pair j standing for member
+        kk[j]: the member's primitives, sorted by pair and then by primitive (global
+        rows); with a grid, only those whose support can reach the point. Returns the
+        pair index and primitive row of each, and the count of each pair's."""
+        v = P.shape[1]
+        if self.grid is None or v * self.m <= G.SMALL_DENSE:
+            pp = np.repeat(np.arange(v), self.m)
+            return pp, (kk * self.m)[pp] + np.tile(np.arange(self.m), v), np.full(v, self.m)
+        pp, pi, _ = G.grid_pairs(self.grid, P)
+        mine = pi // self.m == kk[pp]               # other members' primitives in the cell
+        pp, pi = pp[mine], pi[mine]
+        return pp, pi, np.bincount(pp, minlength=v)
 
 
 class StackedOp:

@@ -194,14 +194,62 @@ def test_identical_subtrees_are_stacked_and_equal_the_naive_evaluation(op):
         assert f[0] == f1[i] and np.array_equal(g[0], g1[i])
 
 
+def _mixed_blend(x):
+    """A blend of 17 primitives in groups too small for a grid (4 points, 4 segments,
+    4 boxes, 4 discs and a circle): every one is evaluated on every point."""
+    kids = []
+    for j in range(4):
+        c = (x + 0.1 * j, 0.2 * j, 0.0)
+        kids += [pt(c, 0.5),
+                 {"type": "segment", "a": list(c), "b": [c[0] + 0.3, c[1], 0.1], "radius": 0.4},
+                 {"type": "box", "center": [c[0], c[1], 0.3], "half_size": [0.1, 0.1, 0.1], "radius": 0.3},
+                 {"type": "disc", "center": [c[0], c[1], -0.3], "normal": [0, 0, 1], "disc_radius": 0.2,
+                  "radius": 0.3}]
+    kids.append({"type": "circle", "center": [x, 0, 0], "normal": [0, 1, 0], "circle_radius": 0.5, "radius": 0.3})
+    return {"type": "blend", "children": kids}
+
+
 def test_few_or_large_identical_subtrees_are_not_stacked():
     from blobtree_ink.model.stack import STACK_MAX_PRIMS, Stack
     two = ev_of({"type": "union", "children": [_holed(0.0), _holed(3.0)]})
     assert not any(isinstance(c, Stack) for c in two.plan.children)
-    big = [{"type": "difference", "children": [pt((x, 0, 0), 1.0)] +
-            [pt((x + 0.01 * j, 0.3, 0), 0.2, 2.0) for j in range(STACK_MAX_PRIMS)]} for x in (0, 3, 6)]
-    ev = ev_of({"type": "union", "children": big})
-    assert not any(isinstance(c, Stack) for c in ev.plan.children)
+    # a stack evaluates every primitive of a small group on each of a member's points
+    assert 17 > STACK_MAX_PRIMS
+    big = ev_of({"type": "union", "children": [_mixed_blend(x) for x in (0.0, 3.0, 6.0)]})
+    assert [len(c.children) for c in big.plan.children] == [5, 5, 5]
+    assert not any(isinstance(c, Stack) for c in big.plan.children)
+
+
+def test_identical_subtrees_with_large_groups_are_stacked_and_those_keep_a_grid():
+    # each member subtracts 40 points: one gridded group, which meets only the few near
+    # a point, so the members stack; the stacked group's grid gives the values of every
+    # member's primitives evaluated on every point
+    from blobtree_ink.model import groups as G
+    from blobtree_ink.model.stack import Stack
+    holes = [{"type": "difference", "children": [pt((x, 0, 0), 1.2)] +
+              [pt((x + 0.8 * np.cos(a), 0.8 * np.sin(a), 0), 0.25, 2.0) for a in np.linspace(0, 6, 40)]}
+             for x in (0.0, 2.0, 4.0, 6.5)]
+    root = {"type": "union", "children": holes}
+    fast = ev_of(root)
+    stacks = [c for c in fast.plan.children if isinstance(c, Stack)]
+    assert len(stacks) == 1 and stacks[0].K == 4
+    sub = stacks[0].shape.children[1]
+    assert sub.m == 40 and sub.grid is not None
+    naive = M.Evaluator(M.from_dict({"format": "blobtree-1", "iso": 0.5, "root": root}), optimize=False)
+    P = np.random.default_rng(5).uniform((-1.5, -1.5, -0.5), (8, 1.5, 0.5), size=(3000, 3))
+    assert len(P) * sub.m > G.SMALL_DENSE                 # the grid, not every member on every point
+    f1, g1 = fast.field_grad(P)
+    f2, g2 = naive.field_grad(P)
+    np.testing.assert_allclose(f1, f2, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(g1, g2, rtol=0, atol=1e-10)
+    assert (f2 > 0.5).any() and (f2 < 0.5).any()
+    kk = np.zeros(len(P), np.int64)
+    pp, pi, counts = sub.pairs(P.T.copy(), kk)
+    assert len(pp) < len(P) * sub.m / 4 and np.all(pi < sub.m)
+    assert np.all(np.diff(pp) >= 0) and np.all(np.diff(pi)[np.diff(pp) == 0] > 0)
+    for i in (0, 17, 2999):                               # one point is a batch of one
+        f, g = fast.field_grad(P[i])
+        assert f[0] == f1[i] and np.array_equal(g[0], g1[i])
 
 
 def test_a_stack_of_many_members_tests_its_boxes_in_blocks(monkeypatch):
