@@ -58,7 +58,6 @@ class Baseline:
             D = target - O
             D /= np.linalg.norm(D, axis=1, keepdims=True)
             ts = np.linspace(0, 2 * r, 200)
-            prev_in = np.zeros(m, bool)
             t_hit = np.full(m, np.nan)
             for a, b in zip(ts[:-1], ts[1:]):
                 live = np.isnan(t_hit)

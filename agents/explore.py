@@ -73,13 +73,15 @@ def corner_features(session):
         return 0
     rows = bb.surface_rows[flag]
     C = bb.corner_pos[flag]                                            # (k, 8, 3)
-    centre, _, _ = s.surface.project(C.mean(axis=1))
     # neighbouring voxels share corners (about 3.5 voxel corners per grid corner): each
     # grid corner is projected once, towards the centre of the first voxel that has it
+    # (projected in the same batch)
     key = np.round((C.reshape(-1, 3) - bb.lo) / bb.h).astype(np.int64)
     _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
-    P, f, g = s.surface.project(C.reshape(-1, 3)[first], anchor=np.repeat(centre, 8, axis=0)[first])
-    P, f, g = P[inv.ravel()], f[inv.ravel()], g[inv.ravel()]
+    k = len(C)
+    P, f, g = s.surface.project(np.concatenate([C.mean(axis=1), C.reshape(-1, 3)[first]]),
+                                anchor_rows=np.concatenate([np.full(k, -1), first // 8]))
+    P, f, g = P[k:][inv.ravel()], f[k:][inv.ravel()], g[k:][inv.ravel()]
     on = (np.all(np.isfinite(P), axis=1) & (np.abs(f - s.ev.iso) <= 1e-6 * max(1.0, s.ev.iso))).reshape(-1, 8)
     n = s.surface.normals(g).reshape(-1, 8, 3)
     P = P.reshape(-1, 8, 3)

@@ -27,12 +27,10 @@ def priorities(bb, rows, lod):
     rows = np.asarray(rows, np.int64)
     v = bb.vox
     nb = bb.neighbours(rows)                      # (k, 27), -1 where absent
-    has = nb >= 0
-    nbi = np.where(has, nb, 0)
 
     def nmax(values):
-        vals = values[nbi]
-        return np.where(has, vals, -np.inf).max(axis=1)
+        # an absent neighbour (-1) picks the appended last value, which counts for nothing
+        return np.append(values, -np.inf)[nb].max(axis=1)
 
     wlc_all = corner_workload(v["corners_in"], v["surface"])
     theta = v["theta"]

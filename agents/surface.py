@@ -31,24 +31,34 @@ class Surface:
     def field_grad(self, P):
         return self.ev.field_grad(P)
 
-    def project(self, P, steps=8, max_step=None, anchor=None):
+    def project(self, P, steps=8, max_step=None, anchor=None, anchor_rows=None):
         """Damped Newton steps along the gradient onto f = iso (model.projection; at most
         ``steps`` field evaluations after the first). Returns P, f, g.
 
         A point where the field is flat (no gradient: empty space, or the core of a
         primitive or of a subtracted one) has no direction to follow; with ``anchor``
         (a nearby point on the surface for each point) it first moves towards its
-        anchor, to the first of MARCH samples where the field has a gradient."""
+        anchor, to the first of MARCH samples where the field has a gradient. With
+        ``anchor_rows`` (-1: none) the anchor of a point is the projection of another
+        point of the same batch: those come out of one batch of Newton steps, and the
+        flat points march towards them and take their Newton steps after."""
         P = np.array(P, float)
         if len(P) == 0:
             return P, np.zeros(0), np.zeros((0, 3))
         max_step = max_step if max_step is not None else 0.05 * self.scale
         f, g = self.ev.field_grad(P)
-        if anchor is not None:
-            flat = np.flatnonzero(~(np.einsum("ij,ij->i", g, g) > 1e-300))
-            if len(flat):
-                self._march(P, f, g, flat, np.asarray(anchor, float)[flat])
+        flat = np.flatnonzero(~(np.einsum("ij,ij->i", g, g) > 1e-300))
+        if anchor is not None and len(flat):
+            self._march(P, f, g, flat, np.asarray(anchor, float)[flat])
         newton(self.ev, P, f, g, steps, max_step)
+        if anchor_rows is not None and len(flat):
+            flat = flat[anchor_rows[flat] >= 0]
+            if len(flat):
+                # flat points stayed put in the Newton steps above
+                Pf, ff, gf = P[flat], f[flat], g[flat]
+                self._march(Pf, ff, gf, np.arange(len(flat)), P[anchor_rows[flat]])
+                newton(self.ev, Pf, ff, gf, steps, max_step)
+                P[flat], f[flat], g[flat] = Pf, ff, gf
         return P, f, g
 
     def _march(self, P, f, g, rows, anchor):

@@ -155,3 +155,20 @@ def test_the_surface_box_is_that_of_every_sample_of_its_grid():
         X = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
         on = X[ev.field(X) >= ev.iso, axis]
         assert (on.max() < reach) if end else (on.min() > reach)            # every other sample misses it
+
+
+def test_a_flat_point_marches_towards_the_projection_of_its_anchor_row():
+    # anchor_rows: a point in empty space (no gradient) moves towards the projection of
+    # another point of the same batch, as if that projection were given as its anchor
+    surf = Surface(M.Evaluator(model_of(SPHERE)), View(eye=(0, -6, 0)))
+    P = np.array([[0.6, 0, 0], [5.0, 0.5, 0], [0, 3.0, 0], [0.2, 0.7, 0]])
+    X, f, g = surf.project(P, anchor_rows=np.array([-1, 0, -1, -1]))
+    A, fa, ga = surf.project(P[[0, 3]])
+    np.testing.assert_array_equal(X[[0, 3]], A)
+    np.testing.assert_array_equal(f[[0, 3]], fa)
+    Y, fy, gy = surf.project(P[[1]], anchor=A[[0]])
+    np.testing.assert_array_equal(X[1], Y[0])
+    np.testing.assert_array_equal(g[1], gy[0])
+    assert abs(np.linalg.norm(X[1]) - D_ISO) < 1e-12 and abs(f[1] - 0.5) <= tolerance(0.5)
+    np.testing.assert_array_equal(X[2], P[2])              # flat, no anchor: it stays
+    assert f[2] == 0 and not g[2].any()
