@@ -72,7 +72,6 @@ class Baseline:
             P, f, g = self.surface.project(P)
             good = np.abs(f - self.ev.iso) < 1e-9
             hits.append(P[good])
-            del prev_in
         return np.concatenate(hits)[:n] if hits else np.zeros((0, 3))
 
     def step(self, budget=None):
