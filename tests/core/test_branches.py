@@ -130,3 +130,25 @@ def test_a_union_of_many_unlike_subtrees_records_and_pins_each_child():
     want, gwant = ev_of(kids[4]).field_grad(P)
     np.testing.assert_allclose(f5, want, atol=1e-15)
     np.testing.assert_allclose(g5, gwant, atol=1e-12)
+
+
+def test_a_stacked_groups_grid_records_and_pins_as_every_member_on_every_point(load_example, monkeypatch):
+    # the train's car bodies are a stack whose groups (52 points, 5 subtracted boxes: a
+    # union site) keep a grid: its candidates give the values, records and pins of
+    # every member's primitives evaluated on every point
+    from blobtree_ink.model import groups as G
+    from blobtree_ink.model.stack import Stack
+    ev = M.Evaluator(load_example("train"))
+    cars = [c for c in ev.plan.children if isinstance(c, Stack) and c.shape.op == "blend"]
+    assert len(cars) == 1 and cars[0].K == 5
+    lo, hi = cars[0].lo, cars[0].hi
+    P = lo + (hi - lo) * np.random.default_rng(11).random((4000, 3))
+    f, g, table = ev.record(P)
+    other = table[::-1].copy()                          # pins from other points: other sheets
+    fp, gp = ev.pinned(P, other)
+    monkeypatch.setattr(G, "SMALL_DENSE", 10 ** 12)      # every member on every point
+    f2, g2, table2 = ev.record(P)
+    assert np.array_equal(f, f2) and np.array_equal(g, g2) and np.array_equal(table, table2)
+    fp2, gp2 = ev.pinned(P, other)
+    assert np.array_equal(fp, fp2) and np.array_equal(gp, gp2)
+    assert (fp != f).sum() > 100 and (f > ev.iso).any()
