@@ -80,6 +80,7 @@ def unpack(keys):
 
 
 _CORNERS = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.int64)
+_CORNER_PAIRS = np.triu_indices(8, 1)
 
 
 def _unique_ijk(ijk):
@@ -328,14 +329,13 @@ def from_mesh(mesh: Mesh, ev, curvature_fn):
     cf, cg = ev.field_grad(cpos)
     unit = cg / np.maximum(np.linalg.norm(cg, axis=1, keepdims=True), 1e-300)
     zero = np.linalg.norm(cg, axis=1) == 0
-    theta = np.zeros(len(cells))
     idx = np.searchsorted(pack(corner_ijk), pack(corners)).reshape(-1, 8)    # corner_ijk is sorted by key
-    for i in range(8):
-        for j in range(i + 1, 8):
-            dot = np.einsum("ij,ij->i", unit[idx[:, i]], unit[idx[:, j]])
-            ang = np.arccos(np.clip(dot, -1, 1))
-            ang[zero[idx[:, i]] | zero[idx[:, j]]] = 0.0
-            theta = np.maximum(theta, ang)
+    # the 28 pairs of each voxel's corners at once; a pair with a zero gradient counts
+    # as angle 0, and the largest angle is that of the smallest cosine
+    a, b = _CORNER_PAIRS
+    U, z = unit[idx], zero[idx]
+    dot = np.clip(np.einsum("kpd,kpd->kp", U[:, a], U[:, b]), -1, 1)
+    theta = np.arccos(np.where(z[:, a] | z[:, b], 1.0, dot).min(axis=1, initial=1.0))
     bb.set_theta(srows, theta)
     # kept per surface voxel for the view-dependent flags of the manager's explorers
     bb.surface_rows = srows
