@@ -198,8 +198,8 @@ def test_a_voxels_theta_is_the_largest_angle_between_its_corner_gradients():
     from blobtree_ink.blackboard.polygonise import polygonise
     from blobtree_ink.model.curvature import curvature
     box = {"type": "box", "center": [0, 0, 0], "half_size": [0.6, 0.4, 0.5], "radius": 0.3}
-    ev = M.Evaluator(model_of({"type": "difference", "children": [box, {"type": "point", "center": [0.6, 0.4, 0.5],
-                                                                     "radius": 0.6, "strength": 2.0}]}))
+    bite = {"type": "point", "center": [0.6, 0.4, 0.5], "radius": 0.6, "strength": 2.0}
+    ev = M.Evaluator(model_of({"type": "difference", "children": [box, bite]}))
     bb, _ = from_mesh(polygonise(ev, 8), ev, lambda P, g: curvature(ev, P, g))
     C = bb.corner_pos
     _, g = ev.field_grad(C.reshape(-1, 3))
