@@ -47,7 +47,9 @@ class Surface:
             return P, np.zeros(0), np.zeros((0, 3))
         max_step = max_step if max_step is not None else 0.05 * self.scale
         f, g = self.ev.field_grad(P)
-        flat = np.flatnonzero(~(np.einsum("ij,ij->i", g, g) > 1e-300))
+        flat = ()
+        if anchor is not None or anchor_rows is not None:
+            flat = np.flatnonzero(~(np.einsum("ij,ij->i", g, g) > 1e-300))
         if anchor is not None and len(flat):
             self._march(P, f, g, flat, np.asarray(anchor, float)[flat])
         newton(self.ev, P, f, g, steps, max_step)
