@@ -107,7 +107,7 @@ def child_choice(kids, n, need_grad, w):
         to = np.flatnonzero(mine) if idx is None else idx[mine]
         F[to] = f[mine]
         if need_grad:
-            G[:, to] = g[:, mine]
+            G[:, to] = g.compress(mine, axis=1)
     return F, G
 
 
@@ -121,5 +121,5 @@ def pair_choice(n, pp, member, f, g, w):
     G = None
     if g is not None:
         G = np.zeros((3, n))
-        G[:, pp[hit]] = g[:, hit]
+        G[:, pp[hit]] = g.compress(hit, axis=1)
     return F, G

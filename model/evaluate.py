@@ -138,7 +138,7 @@ def _sparse(node, P, need_grad, prune, stats, pbox, ctx=None):
             idx = np.flatnonzero(m)
             if len(idx) == 0:
                 return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
-            P = P[:, idx]
+            P = P.take(idx, axis=1)
             ctx = None if ctx is None else ctx.sub(idx)
     if isinstance(node, Group):
         f, g = node.evaluate(P, need_grad, stats, ctx)
@@ -206,7 +206,7 @@ def _stack(node, P, need_grad, stats, ctx=None):
     pp, kk = node.pairs(P)
     if len(pp) == 0:
         return _EMPTY, _EMPTY_F, (_EMPTY_G if need_grad else None)
-    f, g = _shape(node.shape, P[:, pp], kk, need_grad, stats, None if ctx is None else ctx.pairs(pp, kk))
+    f, g = _shape(node.shape, P.take(pp, axis=1), kk, need_grad, stats, None if ctx is None else ctx.pairs(pp, kk))
     # pairs are sorted by point, then by member
     if node.reduce == "sum":
         starts = np.flatnonzero(np.diff(pp, prepend=-1))
@@ -226,7 +226,7 @@ def _stack(node, P, need_grad, stats, ctx=None):
     F[zero] = 0.0
     if not need_grad:
         return owners, F, None
-    Gr = g[:, win]
+    Gr = g.take(win, axis=1)
     Gr[:, zero] = 0.0
     return owners, F, Gr
 
@@ -239,7 +239,7 @@ def _shape(t, P, kk, need_grad, stats, ctx=None):
         if t.m == 1:            # one pair per point, member kk; _single as for one member
             return G.evaluate_pairs(t.prm, t.reduce, t.n, P, kk, None, v, need_grad, stats)
         pp, idx, counts = t.pairs(P, kk)
-        return G.evaluate_pairs(t.prm, t.reduce, t.n, np.repeat(P, counts, axis=1), idx, pp, v, need_grad, stats,
+        return G.evaluate_pairs(t.prm, t.reduce, t.n, P.take(pp, axis=1), idx, pp, v, need_grad, stats,
                                 ctx, t)
     kids = [(None, *_shape(c, P, kk, need_grad, stats, ctx)) for c in t.children]
     return _combine(t, kids, v, need_grad, ctx)
@@ -297,7 +297,7 @@ def _extreme(kids, n, need_grad, better, ctx=None, node=None, part=0):
             win = better(f, cur)
             F[idx] = np.where(win, f, cur)
             if need_grad:
-                G[:, idx] = np.where(win, g, G[:, idx])
+                G[:, idx] = np.where(win, g, G.take(idx, axis=1))
             if w is not None:
                 w[idx[win]] = k
             cover[idx] += 1

@@ -88,7 +88,7 @@ def dist2(P, prm, idx=None):
     else:
         def take(key):
             a = prm[key]
-            return a[:, idx] if a.ndim == 2 else a[idx]
+            return a.take(idx, axis=a.ndim - 1)
     if kind == "point":
         V = P - take("Ct")
         return V[0] * V[0] + V[1] * V[1] + V[2] * V[2], V
