@@ -9,6 +9,7 @@ crease) counts only where n.v is small on one side of it: a silhouette is near."
 import numpy as np
 
 from ..blackboard.board import KIND_ID
+from ..blackboard.keys import unique_rows
 from .surface import unit
 
 OFFSETS = np.array([0.2, 0.4, 0.7, 1.0])               # sideways, in voxels
@@ -60,7 +61,7 @@ def seeds_beside_silhouettes(session, region_ok=None):
     known = s.traced.loop(np.full(len(pos), KIND_ID["silhouette"]), pos, 0.5 * s.step_len)
     new = np.array([known.hit(q) is None for q in range(len(pos))], bool)
     a, b, pos = a[new], b[new], pos[new]
-    _, first = np.unique(np.floor(pos / (0.5 * h)).astype(np.int64), axis=0, return_index=True)
+    _, first = unique_rows(np.floor(pos / (0.5 * h)).astype(np.int64), return_index=True)
     first = np.sort(first)
     if len(first):
         s.bb.add_features(pos[first], a[first], b[first], "silhouette")

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
+from ..blackboard.keys import unique_rows
 from ..blackboard.polygonise import thin_parts
 from ..blackboard.subdivide import fine_features
 from ..model.csg import subtracted_centres
@@ -77,7 +78,7 @@ def corner_features(session):
     # grid corner is projected once, towards the centre of the first voxel that has it
     # (projected in the same batch)
     key = np.round((C.reshape(-1, 3) - bb.lo) / bb.h).astype(np.int64)
-    _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+    _, first, inv = unique_rows(key, return_index=True, return_inverse=True)
     k = len(C)
     P, f, g = s.surface.project(np.concatenate([C.mean(axis=1), C.reshape(-1, 3)[first]]),
                                 anchor_rows=np.concatenate([np.full(k, -1), first // 8]))
@@ -200,7 +201,7 @@ def subdivide(session, P, C):
     mid = s.bb.voxel_of(centres)
     cand = mid[:, None, :] + _BLOCK[None]                                   # (m, 125, 3)
     inside = np.all((cand >= lo[:, None]) & (cand <= hi[:, None]), axis=2)
-    ijk = np.unique(cand[inside], axis=0)
+    ijk = unique_rows(cand[inside])
     if len(ijk) > MAX_SUBDIVIDED:       # a spread subset: the fine sampling's cost stays bounded
         ijk = ijk[np.linspace(0, len(ijk) - 1, MAX_SUBDIVIDED).astype(int)]
     added = 0

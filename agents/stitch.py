@@ -10,6 +10,8 @@ whose ends meet is closed.
 """
 import numpy as np
 
+from ..blackboard.keys import unique_rows
+
 _OFFSETS = [(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)]
 
 
@@ -41,7 +43,7 @@ def stitch(outlines, link, make):
 def _merge_close(P, N, r):
     """Keep the first point of each cell of size r (order preserved)."""
     keys = np.floor(P / r).astype(np.int64)
-    _, first = np.unique(keys, axis=0, return_index=True)
+    _, first = unique_rows(keys, return_index=True)
     keep = np.sort(first)
     return P[keep], N[keep]
 

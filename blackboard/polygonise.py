@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.projection import newton
+from .keys import unique_rows
 
 MIN_RES, MAX_RES = 2, 512
 LAYERS = 4               # sample layers per evaluation of the surface box's walks inwards
@@ -47,7 +48,7 @@ class Mesh:
         q = self.quads
         e = np.concatenate([q[:, [0, 1]], q[:, [1, 2]], q[:, [2, 3]], q[:, [3, 0]]])
         e = np.sort(e, axis=1)
-        return np.unique(e, axis=0)
+        return unique_rows(e)
 
 
 def surface_box(ev, res=48, pad_cells=1.5):

@@ -15,6 +15,7 @@ points remember that scale (their agents trace with steps of it).
 """
 import numpy as np
 
+from .keys import unique_rows
 from .polygonise import edge_ends, refine_crossings
 
 # the fine-cell edges of cell (i, j, l), per axis: offsets of their lower corners
@@ -122,7 +123,7 @@ def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
         mid = 0.5 * (pa + pb)
         # one feature point per kind in each block of 2^3 fine cells: neighbouring fine
         # cells on one outline would each start a trace of it
-        _, first = np.unique(np.floor((mid - lo) / (2 * h / k)).astype(np.int64), axis=0, return_index=True)
+        _, first = unique_rows(np.floor((mid - lo) / (2 * h / k)).astype(np.int64), return_index=True)
         first = np.sort(first)
         out[kind] = (mid[first], pa[first], pb[first])
     for kind in kinds:

@@ -3,6 +3,7 @@ theta_i, the largest angle between a surface voxel's corner gradients."""
 import math
 
 import numpy as np
+import pytest
 
 from blobtree_ink import model as M
 from blobtree_ink.blackboard.board import Blackboard
@@ -55,3 +56,23 @@ def test_a_voxels_theta_is_the_largest_angle_between_its_corner_gradients():
     flat = ~(np.linalg.norm(g, axis=2) > 0)
     assert flat.any(axis=1).sum() > 10 and (flat.any(axis=1) & (got > 0.3)).any()
     assert (got > math.radians(35)).sum() > 10 and (got < 0.1).sum() > 10
+
+
+def test_unique_rows_is_numpys_row_unique():
+    """unique_rows (one int64 key per row) gives np.unique(axis=0)'s rows, first
+    indices and inverse exactly: negative and wide values, one to four columns,
+    unsigned ints, no rows; rows too wide for one key fall back to numpy's row sort."""
+    from blobtree_ink.blackboard.keys import unique_rows
+    rng = np.random.default_rng(3)
+    cases = [rng.integers(-7, 9, (500, 3)), rng.integers(-10**6, 10**6, (300, 2)),
+             rng.integers(0, 4, (50, 1)), rng.integers(0, 3, (200, 4)).astype(np.uint8),
+             np.zeros((0, 3), np.int64), np.array([[-2**62, 2**62 - 1], [0, 1], [-2**62, 2**62 - 1]])]
+    for a in cases:
+        u, first, inv = unique_rows(a, return_index=True, return_inverse=True)
+        nu, nfirst, ninv = np.unique(a, axis=0, return_index=True, return_inverse=True)
+        assert u.dtype == a.dtype and np.array_equal(u, nu)
+        assert np.array_equal(first, nfirst) and np.array_equal(inv, ninv.ravel())
+        assert np.array_equal(u[inv], a) and np.array_equal(a[first], u)
+        assert np.array_equal(unique_rows(a), nu)
+    with pytest.raises(ValueError, match="integer array"):
+        unique_rows(np.zeros((3, 2)))
