@@ -14,55 +14,59 @@ OFFSET = 0.15       # seeds lie this many steps into their sheet (a silhouette m
 
 
 def sides(view, X, A, B, nA, nB):
-    """(point, side directions, side facings) of crease points X from their bracket
-    ends A, B and the two sheets' normals there, vectorised."""
+    """Side records of crease points X from their bracket ends A, B and the two sheets'
+    normals there: (X, side directions (k, 2, 3), side facings (k, 2))."""
     W = unit(B - A)                                   # from side A towards side B
     facing = np.stack([np.einsum("ij,ij->i", nA, view.towards_eye(A)),
                        np.einsum("ij,ij->i", nB, view.towards_eye(B))], axis=1)
-    return [(X[i], (-W[i], W[i]), facing[i]) for i in range(len(X))]
+    return X, np.stack([-W, W], axis=1), facing
 
 
 def flips(before, now, d):
-    """Seed brackets for silhouettes leaving a crease between two of its points: the
-    sheets are matched by their side directions, and where a sheet's facing changed sign
-    the bracket runs d into that sheet at both points."""
+    """Seed brackets (a, b, row) for silhouettes leaving a crease between two of its
+    points, for rows of side records ``before`` and ``now``: the sheets are matched by
+    their side directions, and where a sheet's facing changed sign the bracket runs d
+    (per row) into that sheet at both points; side A's before side B's in each row."""
     x0, dirs0, facing0 = before
     x1, dirs1, facing1 = now
-    same = dirs0[0] @ dirs1[0] >= 0
-    out = []
-    for side in (0, 1):
-        old = side if same else 1 - side
-        if (facing0[old] > 0) != (facing1[side] > 0):
-            out.append((x0 + d * dirs0[old], x1 + d * dirs1[side]))
-    return out
+    k = len(x0)
+    same = np.einsum("ij,ij->i", dirs0[:, 0], dirs1[:, 0]) >= 0
+    side = np.array([0, 1])
+    old = np.where(same[:, None], side[None, :], 1 - side[None, :])            # (k, 2)
+    rows = np.arange(k)[:, None]
+    flip = (facing0[rows, old] > 0) != (facing1 > 0)
+    r, c = np.nonzero(flip)                                                    # row-major: side A first
+    o = old[r, c]
+    a = x0[r] + d[r, None] * dirs0[r, o]
+    b = x1[r] + d[r, None] * dirs1[r, c]
+    return a, b, r
 
 
 def seed_sides(session, X, A, B):
     """The side records of new crease seeds (their sheets' normals from one batched
     evaluation at the bracket ends)."""
-    if len(X) == 0:
-        return []
     _, g = session.ev.field_grad(np.concatenate([A, B]))
     n = session.surface.normals(g)
     return sides(session.view, X, A, B, n[:len(X)], n[len(X):])
 
 
-def silhouettes_off_creases(session, trs, X, A, B, nA, nB, ok):
+def silhouettes_off_creases(session, tasks, X, A, B, nA, nB, ok):
     """After a trace step: the seed brackets (a, b, cell) of silhouettes that start on the
-    creases between each crease trace's last and current point; updates the traces'
-    side records."""
+    creases between each crease task's last and current point, as arrays; updates the
+    tasks' side records (agents.traces)."""
+    empty = np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
     if "silhouette" not in session.settings.kinds:
-        return []
-    rows = np.array([i for i, tr in enumerate(trs) if tr.kind == KIND_ID["crease"] and ok[i]], np.int64)
+        return empty
+    rows = np.flatnonzero((tasks.kind == KIND_ID["crease"]) & ok)
     rows = rows[np.linalg.norm(B[rows] - A[rows], axis=1) > 0]     # ends apart: sides defined
     if len(rows) == 0:
-        return []
+        return empty
     now = sides(session.view, X[rows], A[rows], B[rows], nA[rows], nB[rows])
-    seeds = []
-    for i, rec in zip(rows, now):
-        tr = trs[i]
-        if tr.sides is not None:
-            cell = tr.base / session.settings.step          # the trace's scale: its seeds'
-            seeds += [(x, y, cell) for x, y in flips(tr.sides, rec, OFFSET * tr.base)]
-        tr.sides = rec
-    return seeds
+    had = rows[tasks.has_sides[rows]]
+    j = np.flatnonzero(tasks.has_sides[rows])
+    before = tasks.side_x[had], tasks.side_dirs[had], tasks.side_facing[had]
+    a, b, r = flips(before, tuple(x[j] for x in now), OFFSET * tasks.base[had])
+    cell = tasks.base[had][r] / session.settings.step          # the trace's scale: its seeds'
+    tasks.side_x[rows], tasks.side_dirs[rows], tasks.side_facing[rows] = now
+    tasks.has_sides[rows] = True
+    return a, b, cell

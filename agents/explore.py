@@ -5,7 +5,6 @@ each step with the previous one: a sign change of n.v (silhouette), of the mean
 curvature, or a jump of the normal (crease). Found points go to the blackboard, where
 the manager turns them into tracing tasks."""
 import dataclasses
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -16,19 +15,17 @@ from ..blackboard.subdivide import fine_features
 from ..model.csg import subtracted_centres
 from ..model.curvature import curvature
 from ..strokes import steering as st
+from .columns import Columns
 
 
-@dataclass
-class _Explorer:
-    agent: int
-    voxel: int
-    centre: np.ndarray
-    p: np.ndarray
-    d: np.ndarray
-    s_sil: float
-    s_curv: float
-    n: np.ndarray
-    steps: int = 0
+def table():
+    """An empty explorer table (agents.columns), one row per exploring agent: its agent,
+    voxel and that voxel's centre (or its probe point), its position, heading and
+    normal, its last n.v and mean curvature (compared with the next step's), and the
+    steps it has taken."""
+    v = ((3,), float)
+    return Columns(agent=((), np.int64), voxel=((), np.int64), centre=v, p=v, d=v, n=v,
+                   s_sil=((), float), s_curv=((), float), steps=((), np.int64))
 
 
 def flagged_voxels(session):
@@ -250,23 +247,20 @@ def start(session, rows):
     d = st.unit(np.cross(n, s.rng.normal(size=(len(P), 3))))
     sil = np.einsum("ij,ij->i", n, s.view.towards_eye(P))
     curv = curvature(s.ev, P, g)["mean"]
-    for i, row in enumerate(rows):
-        s.explorers.append(_Explorer(agent=s.free.pop(), voxel=row, centre=centres[i], p=P[i], d=d[i],
-                                     s_sil=float(sil[i]), s_curv=float(curv[i]), n=n[i]))
+    agents = [s.free.pop() for _ in rows]
+    s.explorers.append(len(rows), agent=agents, voxel=rows, centre=centres, p=P, d=d, n=n, s_sil=sil, s_curv=curv,
+                       steps=0)
 
 
 def step(session):
     s = session
-    if not s.explorers:
-        return []
     ex = s.explorers
-    P = np.array([e.p for e in ex])
-    D = np.array([e.d for e in ex])
-    C = np.array([e.centre for e in ex])
-    N = np.array([e.n for e in ex])
+    if not ex:
+        return []
+    P, C, N = ex.p, ex.centre, ex.n
     # wander (the steering behaviour of the stroke smarticles); containment: seek the
     # voxel centre when further than a voxel from it
-    D = st.wander(D, N, s.rng, jitter=0.6)
+    D = st.wander(ex.d, N, s.rng, jitter=0.6)
     away = np.linalg.norm(P - C, axis=1) > s.h
     D[away] += 2.0 * np.linalg.norm(C[away] - P[away], axis=1)[:, None] / s.h * st.seek(P[away], C[away])
     D = st.unit(st.tangent(D, N))
@@ -276,26 +270,22 @@ def step(session):
     cq = curvature(s.ev, Q, g)
     curv = cq["mean"]
     rows = s.bb.add_samples(Q, f, g, "path", cq)
-    found = {k: [] for k in FEATURE_KINDS}
+    # identify feature points: this step against the previous one
     kinds = set(s.settings.kinds)
-    keep = []
-    for i, e in enumerate(ex):
-        if "silhouette" in kinds and (e.s_sil > 0) != (sil[i] > 0):
-            found["silhouette"].append((e.p, Q[i]))
-        if "curvature" in kinds and np.isfinite(curv[i]) and (e.s_curv > 0) != (curv[i] > 0):
-            found["curvature"].append((e.p, Q[i]))
-        if "crease" in kinds and np.arccos(np.clip(e.n @ n[i], -1, 1)) > s.settings.crease_angle:
-            found["crease"].append((e.p, Q[i]))
-        e.p, e.d, e.n, e.s_sil, e.s_curv = Q[i], D[i], n[i], float(sil[i]), float(curv[i])
-        e.steps += 1
-        if e.steps >= s.settings.explore_steps:
-            s.free.append(e.agent)
-        else:
-            keep.append(e)
-    s.explorers = keep
-    for kind, pairs in found.items():
-        if pairs:
-            a = np.array([p for p, _ in pairs])
-            b = np.array([q for _, q in pairs])
+    found = {}
+    if "silhouette" in kinds:
+        found["silhouette"] = (ex.s_sil > 0) != (sil > 0)
+    if "curvature" in kinds:
+        found["curvature"] = np.isfinite(curv) & ((ex.s_curv > 0) != (curv > 0))
+    if "crease" in kinds:
+        found["crease"] = np.arccos(np.clip(np.einsum("ij,ij->i", N, n), -1, 1)) > s.settings.crease_angle
+    for kind in FEATURE_KINDS:
+        if kind in found and found[kind].any():
+            a, b = P[found[kind]], Q[found[kind]]
             s.bb.add_features(0.5 * (a + b), a, b, kind)
+    ex.p, ex.d, ex.n, ex.s_sil, ex.s_curv = Q, D, n, sil, curv
+    ex.steps += 1
+    done = ex.steps >= s.settings.explore_steps
+    s.free.extend(ex.agent[done].tolist())
+    ex.keep(~done)
     return [rows]

@@ -25,10 +25,11 @@ from ..blackboard.edges import process_edges
 from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature
-from . import explore, manager
+from . import explore, manager, sheets
 from . import traces as trace_tasks
 from .beside import seeds_beside_silhouettes
-from .outline import Outline, stitch_scales
+from .columns import Paths
+from .outline import stitch_scales
 from .surface import Surface
 from .traced import TracedPoints
 
@@ -102,8 +103,10 @@ class Session:
         self.init_seconds = time.perf_counter() - t0
         self.iteration = 0
         self.free = list(range(self.settings.agents))
-        self.traces = []            # active tracing tasks
-        self.explorers = []         # active exploration tasks
+        self.traces = trace_tasks.table(self.ev.sites.count if sheets.usable(self.surface) else 0)
+        self.paths = Paths()        # the points the tracing tasks have kept
+        self.task_serial = 0
+        self.explorers = explore.table()   # active exploration tasks
         self.explore_queue = []     # voxel rows waiting for an explorer
         self.explored = set()
         self.done_outlines = []
@@ -249,11 +252,7 @@ class Session:
         """Feature outlines found so far, fragments stitched into whole polylines."""
         out = list(self.done_outlines)
         if include_active:
-            for tr in self.traces:
-                pts = tr.bwd[::-1] + tr.fwd
-                if pts:
-                    out.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts),
-                                       np.array(tr.bwd_n[::-1] + tr.fwd_n), False, tr.base))
+            out += trace_tasks.active_outlines(self)
         return stitch_scales(out)
 
     def progress(self):

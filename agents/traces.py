@@ -1,13 +1,23 @@
 """Tracing tasks of a session: a seed's refinement starts them (one task each way
 along its outline where agents are free for both), every system iteration steps them
 together (tracer.trace_step), and a finished one hands its points to the session as
-an outline. Functions of the session (``self``), which holds the tasks."""
-from dataclasses import dataclass, field
+an outline. Functions of the session (``self``), which holds the tasks as columns
+(:func:`table`, one row per task) and their points in a pool (agents.columns.Paths).
 
+A task's columns: its kind and agents (one, or a crease team of two; -1: none); its
+last point, direction, crease ref (n_A - n_B) and normal; the same at its seed; its
+step (halved after a failed step, regrown after success) and full step (the session's,
+or a subdivided voxel's seed's); its outline id; whether it goes forwards from the
+seed (else backwards) and whether the other half is its own task (paired); its
+points kept each way (the pool holds them) and its last forward point; a crease
+team's branch records (agents.sheets) and side positions, now and at the seed; and a
+crease's side record (agents.crease_seeds), now and at the seed.
+"""
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from . import crease_seeds
+from .columns import Columns
 from .outline import Outline
 from .tracer import refine_seeds, trace_step
 from .traced import NO_ARC, SELF_GAP, consume_crossed
@@ -15,34 +25,20 @@ from .traced import NO_ARC, SELF_GAP, consume_crossed
 SEED_PAUSE = 8          # bisection iterations a seed's refinement takes per system iteration
 SEED_ROUNDS = 6         # ... in at most this many system iterations
 
+_V = ((3,), float)
 
-@dataclass
-class Trace:
-    kind: int
-    agents: tuple
-    p: np.ndarray
-    t: np.ndarray
-    ref: np.ndarray
-    start: np.ndarray
-    start_t: np.ndarray
-    start_ref: np.ndarray
-    fwd: list = field(default_factory=list)
-    fwd_n: list = field(default_factory=list)
-    bwd: list = field(default_factory=list)
-    bwd_n: list = field(default_factory=list)
-    phase: str = "fwd"
-    closed: bool = False
-    h: float = 0.0              # current step: halved after a failed step, regrown after success
-    base: float = 0.0           # its full step: the session's, or a subdivided voxel's seed's
-    id: int = -1
-    sides: tuple = None         # a crease's last point, side directions and side facings
-    start_sides: tuple = None   # the same at its seed
-    paired: bool = False        # the other half (backwards from the seed) is its own task
-    start_n: np.ndarray = None  # the normal at its seed
-    pins: np.ndarray = None     # a crease team's branch records, side A and side B (agents.sheets)
-    team: tuple = None          # the team's side positions (A, B) at its last point
-    start_pins: np.ndarray = None
-    start_team: tuple = None
+
+def table(sites):
+    """An empty task table; ``sites``: the length of a branch record (0: none kept)."""
+    pins = ((2, sites), np.int32)
+    return Columns(kind=((), np.int64), agents=((2,), np.int64), serial=((), np.int64), id=((), np.int64),
+                   p=_V, t=_V, ref=_V, last_n=_V, start=_V, start_t=_V, start_ref=_V, start_n=_V,
+                   h=((), float), base=((), float), fwd=((), bool), paired=((), bool),
+                   nf=((), np.int64), nb=((), np.int64), fwd_last=_V,
+                   pins=pins, team_a=_V, team_b=_V, start_pins=pins, start_team_a=_V, start_team_b=_V,
+                   has_sides=((), bool), side_x=_V, side_dirs=((2, 3), float), side_facing=((2,), float),
+                   start_has_sides=((), bool), start_side_x=_V, start_side_dirs=((2, 3), float),
+                   start_side_facing=((2,), float))
 
 
 def start(self, ids):
@@ -54,20 +50,25 @@ def start(self, ids):
     X, n, T, ref, A, B, valid, pins, opened = refine_seeds(self.surface, kinds, f["a"][ids], f["b"][ids],
                                                            self.tol, self.settings.crease_angle, pause=SEED_PAUSE)
     requeue(self, ids[opened], A[opened], B[opened])
-    sides = {}
+    m = len(ids)
+    has_sides = np.zeros(m, bool)
+    side_x, side_dirs, side_facing = np.zeros((m, 3)), np.zeros((m, 2, 3)), np.zeros((m, 2))
     cre = np.flatnonzero(valid & (kinds == KIND_ID["crease"]))
     if len(cre) and "silhouette" in self.settings.kinds:
-        sides = dict(zip(cre, crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])))
+        has_sides[cre] = True
+        side_x[cre], side_dirs[cre], side_facing[cre] = crease_seeds.seed_sides(self, X[cre], A[cre], B[cre])
     base = self.settings.step * f["cell"][ids]          # the seed's scale sets its trace's step
     needs = np.where(kinds == KIND_ID["crease"], 2, 1)
     later = int(needs[valid].sum())          # agents the seeds still to start need, one way
     todo = np.flatnonzero(valid)
     # is an outline traced through the seed already (or through a seed started before it)?
-    m = len(todo)
-    loop = self.traced.loop(kinds[todo], X[todo], base[todo], n=n[todo], upto=np.arange(m),
-                            new=(kinds[todo], X[todo], n[todo], np.zeros(m), np.zeros(m), base[todo]))
+    k = len(todo)
+    loop = self.traced.loop(kinds[todo], X[todo], base[todo], n=n[todo], upto=np.arange(k),
+                            new=(kinds[todo], X[todo], n[todo], np.zeros(k), np.zeros(k), base[todo]))
+    seed, fwd, paired_, agents, tids = [], [], [], [], []
+    count = len(self.done_outlines) + len(self.traces)
     for j, i in enumerate(todo):
-        k, need = int(kinds[i]), int(needs[i])
+        need = int(needs[i])
         later -= need
         if loop.hit(j) is not None:
             continue
@@ -77,20 +78,32 @@ def start(self, ids):
         # seeds is then traced from both ends at once, in half the iterations;
         # otherwise one task goes forwards, then backwards
         paired = len(self.free) - later >= 2 * need
-        tid = len(self.done_outlines) + len(self.traces) + 1000000 * self.iteration
-        for phase in ("fwd", "bwd") if paired else ("fwd",):
-            agents = tuple(self.free.pop() for _ in range(need))
-            tr = Trace(kind=k, agents=agents, p=X[i], t=T[i] if phase == "fwd" else -T[i], ref=ref[i],
-                       start=X[i], start_t=T[i], start_ref=ref[i], id=tid, h=float(base[i]),
-                       base=float(base[i]), phase=phase, paired=paired, start_n=n[i])
-            tr.sides = tr.start_sides = sides.get(i)
-            tr.pins = tr.start_pins = pins[i]
-            tr.team = tr.start_team = (A[i], B[i])
-            self.traces.append(tr)
-        self.traces[-1 - paired].fwd.append(X[i])
-        self.traces[-1 - paired].fwd_n.append(n[i])
+        tid = count + 1000000 * self.iteration
+        for way in (True, False) if paired else (True,):
+            got = [self.free.pop() for _ in range(need)]
+            seed.append(i)
+            fwd.append(way)
+            paired_.append(paired)
+            agents.append(got + [-1] * (2 - need))
+            tids.append(tid)
+            count += 1
         loop.keep(j, tid)
     loop.commit()
+    if not seed:
+        return
+    i, fwd = np.array(seed), np.array(fwd)
+    serial = self.task_serial + np.arange(len(i))
+    self.task_serial += len(i)
+    self.traces.append(
+        len(i), kind=kinds[i], agents=np.array(agents), serial=serial, id=np.array(tids), p=X[i],
+        t=np.where(fwd[:, None], T[i], -T[i]), ref=ref[i], last_n=n[i], start=X[i], start_t=T[i],
+        start_ref=ref[i], start_n=n[i], h=base[i], base=base[i], fwd=fwd, paired=np.array(paired_),
+        nf=fwd.astype(np.int64), nb=0, fwd_last=X[i], pins=pins[i], team_a=A[i], team_b=B[i],
+        start_pins=pins[i], start_team_a=A[i], start_team_b=B[i], has_sides=has_sides[i], side_x=side_x[i],
+        side_dirs=side_dirs[i], side_facing=side_facing[i], start_has_sides=has_sides[i],
+        start_side_x=side_x[i], start_side_dirs=side_dirs[i], start_side_facing=side_facing[i])
+    # the forward task of each seed holds the seed as its first point
+    self.paths.add(serial[fwd], 0, X[i[fwd]], n[i[fwd]])
 
 
 def requeue(self, ids, A, B):
@@ -108,104 +121,122 @@ def requeue(self, ids, A, B):
 
 def step(self):
     """One trace step of every task; returns the blackboard rows the new points touched."""
-    if not self.traces:
+    tk = self.traces
+    if not tk:
         return []
-    trs = self.traces
-    kinds = np.array([t.kind for t in trs])
-    P = np.array([t.p for t in trs])
-    T = np.array([t.t for t in trs])
-    ref = np.array([t.ref for t in trs])
-    h = np.array([t.h for t in trs])
-    base = np.array([t.base for t in trs])
-    nP = np.array([t.fwd_n[-1] if t.phase == "fwd" else t.bwd_n[-1] if t.bwd_n else t.start_n for t in trs])
+    m = len(tk)
+    kinds, h, base = tk.kind, tk.h, tk.base
     retry = h > base / 16                  # a failed step may still be halved
-    pins = np.array([t.pins for t in trs])
-    team = tuple(np.array([t.team[k] for t in trs]) for k in (0, 1))
-    st = trace_step(self.surface, kinds, P, T, ref, h, self.tol, self.settings.crease_angle, nP, retry, pins, team)
+    st = trace_step(self.surface, kinds, tk.p, tk.t, tk.ref, h, self.tol, self.settings.crease_angle, tk.last_n,
+                    retry, tk.pins, (tk.team_a, tk.team_b))
     X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
-    side_seeds = crease_seeds.silhouettes_off_creases(self, trs, X, st.A, st.B, st.nA, st.nB, ok)
+    side_seeds = crease_seeds.silhouettes_off_creases(self, tk, X, st.A, st.B, st.nA, st.nB, ok)
     rows = self.bb.add_samples(X, st.f, st.g, "path")
     # how far each new point is from its outline's other end: the seed, or the forward
     # half's last point for a backward half
-    other = np.array([t.start if t.phase == "fwd" or not t.fwd else t.fwd[-1] for t in trs])
+    other = np.where((tk.fwd | (tk.nf == 0))[:, None], tk.start, tk.fwd_last)
     at_other = np.linalg.norm(X - other, axis=1) < 0.75 * base
-    arcs = np.array([len(t.fwd) if t.phase == "fwd" else -(len(t.bwd) + 1) for t in trs], np.int64)
-    ids = np.array([t.id for t in trs], np.int64)
+    arcs = np.where(tk.fwd, tk.nf, -(tk.nb + 1))
     # which outline each new point meets (and, for a forward half ending without its
     # pair, whether one passes its seed), in loop order: see traced.Loops
     got = np.flatnonzero(ok)
-    q = np.full(len(trs), -1)
+    q = np.full(m, -1)
     q[got] = np.arange(len(got))
-    lone = np.flatnonzero([t.phase == "fwd" and not t.paired for t in trs])
-    sw = np.full(len(trs), -1)
+    lone = np.flatnonzero(tk.fwd & ~tk.paired)
+    sw = np.full(m, -1)
     sw[lone] = len(got) + np.arange(len(lone))
     loop = self.traced.loop(
-        np.concatenate([kinds[got], kinds[lone]]),
-        np.concatenate([X[got], np.array([trs[i].start for i in lone]).reshape(-1, 3)]),
-        np.concatenate([base[got], base[lone]]), np.concatenate([ids[got], ids[lone]]),
-        np.concatenate([arcs[got], np.full(len(lone), NO_ARC)]),
-        np.concatenate([n[got], np.array([trs[i].fwd_n[0] for i in lone]).reshape(-1, 3)]),
-        new=(kinds[got], X[got], n[got], ids[got], arcs[got], base[got]),
+        np.concatenate([kinds[got], kinds[lone]]), np.concatenate([X[got], tk.start[lone]]),
+        np.concatenate([base[got], base[lone]]), np.concatenate([tk.id[got], tk.id[lone]]),
+        np.concatenate([arcs[got], np.full(len(lone), NO_ARC)]), np.concatenate([n[got], tk.start_n[lone]]),
+        new=(kinds[got], X[got], n[got], tk.id[got], arcs[got], base[got]),
         upto=np.concatenate([np.arange(len(got)), np.searchsorted(got, lone)]))
-    q, sw = q.tolist(), sw.tolist()
-    still = []
-    covered = []                           # trace points appended this iteration
-    for i, tr in enumerate(trs):
-        end = None
-        if not ok[i] and retry[i]:
-            tr.h *= 0.5                    # retry with a shorter step next iteration
-            still.append(tr)
-            continue
-        if not ok[i]:
+    # each task's fate, in task order (a loop's questions see the points kept before them)
+    RETRY, KEEP, TURN, END, CLOSED = range(5)
+    fate = np.full(m, END, np.int8)
+    steps = (tk.nf + tk.nb).tolist()
+    q, sw, ok_, retry_, at_other_ = q.tolist(), sw.tolist(), ok.tolist(), retry.tolist(), at_other.tolist()
+    fwd, ids, lone_ = tk.fwd.tolist(), tk.id.tolist(), (tk.fwd & ~tk.paired).tolist()
+    limit = self.settings.max_outline_steps
+    for i in range(m):
+        if not ok_[i]:
+            if retry_[i]:
+                fate[i] = RETRY            # retry with a shorter step next iteration
+                continue
             end = "lost"
+        elif steps[i] >= 4 and at_other_[i]:
+            end = "closed"
+        elif (hit := loop.hit(q[i])) is not None:
+            # an outline is here: stop short; come round onto its own seed, it closed
+            end = "closed" if fwd[i] and hit[0] == ids[i] and hit[1] <= SELF_GAP else "joined"
+        elif steps[i] >= limit:
+            end = "limit"
         else:
-            mine = tr.fwd if tr.phase == "fwd" else tr.bwd
-            steps = len(tr.fwd) + len(tr.bwd)
-            if steps >= 4 and at_other[i]:
-                end = "closed"
-            elif (hit := loop.hit(q[i])) is not None:
-                # an outline is here: stop short; come round onto its own seed, it closed
-                end = "closed" if tr.phase == "fwd" and hit[0] == tr.id and hit[1] <= SELF_GAP else "joined"
-            elif steps >= self.settings.max_outline_steps:
-                end = "limit"
-            else:
-                mine.append(X[i])
-                (tr.fwd_n if tr.phase == "fwd" else tr.bwd_n).append(n[i])
-                loop.keep(q[i])
-                tr.p, tr.t, tr.ref = X[i], Tn[i], refn[i]
-                tr.pins, tr.team = st.pins[i], (st.A[i], st.B[i])
-                tr.h = min(tr.base, 1.5 * tr.h)
-                covered.append(i)
-        if end is None:
-            still.append(tr)
-        elif end == "closed":
-            tr.closed = True
-            finish(self, tr)
-        elif tr.phase == "fwd" and not tr.paired and loop.hit(sw[i]) is None:
-            tr.phase = "bwd"           # trace the other way from the seed
-            tr.p, tr.t, tr.ref = tr.start, -tr.start_t, tr.start_ref
-            tr.h = tr.base
-            tr.sides = tr.start_sides
-            tr.pins, tr.team = tr.start_pins, tr.start_team
-            still.append(tr)
-        else:
-            finish(self, tr)
+            fate[i] = KEEP
+            loop.keep(q[i])
+            continue
+        if end == "closed":
+            fate[i] = CLOSED
+        elif lone_[i] and loop.hit(sw[i]) is None:
+            fate[i] = TURN             # trace the other way from the seed
     loop.commit()
-    self.traces = still
+    kept = np.flatnonzero(fate == KEEP)
+    _keep_points(self, kept, X, n, Tn, refn, st)
+    turn = np.flatnonzero(fate == TURN)
+    _turn(tk, turn)
+    tk.h[fate == RETRY] *= 0.5
+    ended = np.flatnonzero(fate >= END)
+    finish(self, ended, fate[ended] == CLOSED)
+    tk.keep(fate < END)
     W = np.where((kinds == KIND_ID["crease"])[:, None], refn, np.cross(n, Tn))
     W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
-    consume_crossed(self, kinds[covered], X[covered], n[covered], W[covered], base[covered])
-    if side_seeds:
-        a, b, cell = (np.array([x[i] for x in side_seeds]) for i in range(3))
+    consume_crossed(self, kinds[kept], X[kept], n[kept], W[kept], base[kept])
+    a, b, cell = side_seeds
+    if len(a):
         self.bb.add_features(0.5 * (a + b), a, b, "silhouette", cell)
     return [rows]
 
 
-def finish(self, tr):
-    """A task is done: its agents are free again and its points become an outline."""
-    pts = tr.bwd[::-1] + tr.fwd
-    nrm = tr.bwd_n[::-1] + tr.fwd_n
-    self.free.extend(tr.agents)
-    if pts:                    # even a single point: other traces stopped short of it
-        self.done_outlines.append(Outline(FEATURE_KINDS[tr.kind], np.array(pts), np.array(nrm), tr.closed,
-                                          tr.base))
+def _keep_points(self, rows, X, n, Tn, refn, st):
+    """Tasks ``rows`` keep their step's point and go on from it."""
+    tk = self.traces
+    f = tk.fwd[rows]
+    self.paths.add(tk.serial[rows], np.where(f, tk.nf[rows], -(tk.nb[rows] + 1)), X[rows], n[rows])
+    tk.nf[rows[f]] += 1
+    tk.nb[rows[~f]] += 1
+    tk.fwd_last[rows[f]] = X[rows[f]]
+    tk.p[rows], tk.t[rows], tk.ref[rows], tk.last_n[rows] = X[rows], Tn[rows], refn[rows], n[rows]
+    tk.pins[rows], tk.team_a[rows], tk.team_b[rows] = st.pins[rows], st.A[rows], st.B[rows]
+    tk.h[rows] = np.minimum(tk.base[rows], 1.5 * tk.h[rows])
+
+
+def _turn(tk, rows):
+    """Forward tasks ``rows`` without a pair go back to their seed to trace backwards."""
+    tk.fwd[rows] = False
+    tk.p[rows], tk.t[rows], tk.ref[rows] = tk.start[rows], -tk.start_t[rows], tk.start_ref[rows]
+    tk.last_n[rows] = tk.start_n[rows]
+    tk.h[rows] = tk.base[rows]
+    tk.pins[rows], tk.team_a[rows], tk.team_b[rows] = tk.start_pins[rows], tk.start_team_a[rows], tk.start_team_b[rows]
+    tk.has_sides[rows], tk.side_x[rows] = tk.start_has_sides[rows], tk.start_side_x[rows]
+    tk.side_dirs[rows], tk.side_facing[rows] = tk.start_side_dirs[rows], tk.start_side_facing[rows]
+
+
+def finish(self, rows, closed):
+    """Tasks ``rows`` are done, in order: their agents are free again and their points
+    become outlines (even a single point: other traces stopped short of it)."""
+    tk = self.traces
+    paths = self.paths.of(tk.serial[rows], remove=True)
+    for r, c, (pts, nrm) in zip(rows.tolist(), closed.tolist(), paths):
+        self.free.extend(a for a in tk.agents[r].tolist() if a >= 0)
+        if len(pts):
+            self.done_outlines.append(Outline(FEATURE_KINDS[tk.kind[r]], pts, nrm, c, float(tk.base[r])))
+
+
+def active_outlines(self):
+    """The outlines of the tasks still tracing, so far (not closed)."""
+    tk = self.traces
+    out = []
+    for r, (pts, nrm) in enumerate(self.paths.of(tk.serial)):
+        if len(pts):
+            out.append(Outline(FEATURE_KINDS[tk.kind[r]], pts, nrm, False, float(tk.base[r])))
+    return out

@@ -1,0 +1,67 @@
+"""Agents stored as arrays (agents.columns): task columns appended in batches and
+kept by selection, and the pooled points of tracing tasks in step order."""
+import numpy as np
+import pytest
+
+from blobtree_ink.agents.columns import Columns, Paths
+
+from test_both_ways import one_seed_session
+
+
+def test_columns_append_broadcast_and_keep_in_order():
+    c = Columns(a=((), np.int64), v=((3,), float), pins=((2, 0), np.int32))
+    assert len(c) == 0 and not c
+    c.append(2, a=[4, 5], v=[[1, 2, 3], [4, 5, 6]], pins=np.zeros((2, 2, 0)))
+    c.append(3, a=7, v=np.arange(9.0).reshape(3, 3), pins=-2)       # one value broadcast to every row
+    assert c.a.tolist() == [4, 5, 7, 7, 7] and c.v.shape == (5, 3) and c.pins.shape == (5, 2, 0)
+    assert c.a.dtype == np.int64 and c.pins.dtype == np.int32
+    c.keep(np.array([False, True, False, True, True]))
+    assert c.a.tolist() == [5, 7, 7] and c.v[0].tolist() == [4, 5, 6] and c.v[2].tolist() == [6, 7, 8]
+    c.keep([2, 0])
+    assert c.a.tolist() == [7, 5] and c.v.tolist() == [[6, 7, 8], [4, 5, 6]]
+    with pytest.raises(ValueError, match="exactly the columns"):
+        c.append(1, a=1, v=[0, 0, 0])
+    with pytest.raises(ValueError, match="exactly the columns"):
+        c.append(1, a=1, v=[0, 0, 0], pins=0, extra=3)
+
+
+def test_paths_give_each_tasks_points_in_step_order():
+    """Points come in batches of several tasks, forwards (0, 1, ...) and backwards
+    (-1, -2, ...) from the seed; a task's outline runs from its last backward point to
+    its last forward one, in the order the tasks are asked for."""
+    p = Paths()
+    p.add([10, 11], 0, [[0, 0, 0], [5, 0, 0]], [[0, 0, 1], [0, 0, 2]])
+    p.add([11, 10, 12], [-1, 1, 0], [[4, 0, 0], [1, 0, 0], [9, 9, 9]], np.ones((3, 3)))
+    p.add(10, -1, [[-1, 0, 0]], [[0, 1, 0]])
+    p.add([10, 11], [-2, 1], [[-2, 0, 0], [6, 0, 0]], np.zeros((2, 3)))
+    out = p.of([11, 13, 10])
+    assert [len(x) for x, _ in out] == [3, 0, 4]
+    assert out[0][0][:, 0].tolist() == [4, 5, 6] and out[2][0][:, 0].tolist() == [-2, -1, 0, 1]
+    assert out[0][1][1].tolist() == [0, 0, 2] and out[2][1][1].tolist() == [0, 1, 0]
+    assert out[1][0].shape == (0, 3)
+    gone = p.of([10], remove=True)
+    assert gone[0][0][:, 0].tolist() == [-2, -1, 0, 1]
+    assert sorted(p.task.tolist()) == [11, 11, 11, 12] and p.of([10])[0][0].shape == (0, 3)
+    assert p.of([]) == []
+
+
+def test_a_sessions_tracing_tasks_are_rows_of_arrays():
+    """A seed with two free agents starts two tasks, one each way, as two rows: each
+    with its own agent, the same outline id, paired; after a step both rows hold a new
+    point on the surface, kept in the pool, and the session's outlines so far are the
+    two halves."""
+    s = one_seed_session(agents=2)
+    s.step()
+    tk = s.traces
+    assert len(tk) == 2 and len(s.free) == 0
+    assert tk.fwd.tolist() == [True, False] and tk.paired.all() and tk.id[0] == tk.id[1]
+    assert sorted(tk.agents[:, 0].tolist()) == [0, 1] and (tk.agents[:, 1] == -1).all()
+    assert tk.nf.tolist() == [2, 0] and tk.nb.tolist() == [0, 1]
+    f, _ = s.ev.field_grad(tk.p)
+    assert np.all(np.abs(f - s.ev.iso) < 1e-9)
+    pts = s.paths.of(tk.serial)
+    assert [len(x) for x, _ in pts] == [2, 1]
+    assert np.array_equal(pts[0][0][-1], tk.p[0]) and np.array_equal(pts[1][0][-1], tk.p[1])
+    assert np.array_equal(pts[0][0][0], tk.start[0])           # the seed, on the forward half
+    (o,) = s.outlines(include_active=True)                       # the halves stitched
+    assert len(o.points) == 3 and not o.closed
