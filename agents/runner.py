@@ -92,7 +92,8 @@ class Runner:
             self._publish(version + 1, self.finalize() if self.finalize is not None else True)
 
     def _publish(self, version, final=None):
-        snap = Snapshot(self.session.outlines(), self.session.progress(), version,
+        outlines = self.session.outlines()
+        snap = Snapshot(outlines, self.session.progress(outlines), version,
                         time.perf_counter() - self._t0, final)
         with self._lock:
             self._snap = snap

@@ -255,7 +255,10 @@ class Session:
             out += trace_tasks.active_outlines(self)
         return stitch_scales(out)
 
-    def progress(self):
+    def progress(self, outlines=None):
+        """Progress figures; ``outlines``: this session's :meth:`outlines` if the caller
+        has them already (stitching them is not free)."""
+        outs = self.outlines() if outlines is None else outlines
         return {"iterations": self.iteration, "tasks_left": self.tasks_left,
-                "outline_length": sum(o.length for o in self.outlines()),
-                "outlines": len(self.outlines()), "busy_agents": self.settings.agents - len(self.free)}
+                "outline_length": sum(o.length for o in outs),
+                "outlines": len(outs), "busy_agents": self.settings.agents - len(self.free)}

@@ -50,6 +50,10 @@ def test_stop_keeps_the_latest_snapshot_and_skips_finalize(load_example):
     snap = r.snapshot()
     assert snap.final is None and snap.progress["tasks_left"] > 0
     assert snap.outlines and snap.progress["iterations"] == snap.version
+    # the figures are those of the snapshot's own outlines (stitched once, shared)
+    assert snap.progress["outlines"] == len(snap.outlines) > 0
+    assert snap.progress["outline_length"] == sum(o.length for o in snap.outlines) > 0
+    assert s.progress() == s.progress(s.outlines())
     r.check()
 
 
