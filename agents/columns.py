@@ -41,23 +41,45 @@ class Columns:
 
 class Paths:
     """The points kept by tracing tasks, pooled: position, normal, the task's serial
-    and the step index along its outline."""
+    and the step index along its outline. Storage grows by doubling, so that a long
+    trace's points cost amortised constant time each (a trace steps thousands of times)."""
 
     def __init__(self):
-        self.pos = np.zeros((0, 3))
-        self.nrm = np.zeros((0, 3))
-        self.task = np.zeros(0, np.int64)
-        self.arc = np.zeros(0, np.int64)
+        self._n = 0
+        self._pos = np.zeros((64, 3))
+        self._nrm = np.zeros((64, 3))
+        self._task = np.zeros(64, np.int64)
+        self._arc = np.zeros(64, np.int64)
+
+    def __len__(self):
+        return self._n
+
+    @property
+    def task(self):
+        return self._task[:self._n]
+
+    @property
+    def arc(self):
+        return self._arc[:self._n]
 
     def add(self, task, arc, pos, nrm):
         """Points pos (k, 3) with normals nrm of tasks ``task`` at step indices ``arc``
         (each k values, or one for all)."""
         pos = np.asarray(pos, float).reshape(-1, 3)
         k = len(pos)
-        self.pos = np.concatenate([self.pos, pos])
-        self.nrm = np.concatenate([self.nrm, np.asarray(nrm, float).reshape(k, 3)])
-        self.task = np.concatenate([self.task, np.broadcast_to(np.asarray(task, np.int64), (k,))])
-        self.arc = np.concatenate([self.arc, np.broadcast_to(np.asarray(arc, np.int64), (k,))])
+        n = self._n
+        if n + k > len(self._task):
+            cap = max(2 * len(self._task), n + k)
+            for name in ("_pos", "_nrm", "_task", "_arc"):
+                old = getattr(self, name)
+                grown = np.zeros((cap, *old.shape[1:]), old.dtype)
+                grown[:n] = old[:n]
+                setattr(self, name, grown)
+        self._pos[n:n + k] = pos
+        self._nrm[n:n + k] = np.asarray(nrm, float).reshape(k, 3)
+        self._task[n:n + k] = task
+        self._arc[n:n + k] = arc
+        self._n = n + k
 
     def of(self, tasks, remove=False):
         """Each task's points and normals in step order, as a list of (pos, nrm) in the
@@ -65,19 +87,24 @@ class Paths:
         tasks = np.asarray(tasks, np.int64)
         if len(tasks) == 0:
             return []
-        rank = np.full(len(self.task), -1, np.int64)
+        n = self._n
+        task, arc = self._task[:n], self._arc[:n]
+        rank = np.full(n, -1, np.int64)
         order = np.argsort(tasks, kind="stable")
-        at = np.searchsorted(tasks[order], self.task)
-        at = np.minimum(at, len(tasks) - 1)
-        hit = tasks[order][at] == self.task
+        at = np.minimum(np.searchsorted(tasks[order], task), len(tasks) - 1)
+        hit = tasks[order][at] == task
         rank[hit] = order[at[hit]]
         rows = np.flatnonzero(hit)
-        rows = rows[np.lexsort((self.arc[rows], rank[rows]))]
+        rows = rows[np.lexsort((arc[rows], rank[rows]))]
         counts = np.bincount(rank[rows], minlength=len(tasks))
-        pos, nrm = self.pos[rows], self.nrm[rows]
+        pos, nrm = self._pos[rows], self._nrm[rows]
         cut = np.cumsum(counts)[:-1]
         out = list(zip(np.split(pos, cut), np.split(nrm, cut)))
-        if remove:
-            left = ~hit
-            self.pos, self.nrm, self.task, self.arc = self.pos[left], self.nrm[left], self.task[left], self.arc[left]
+        if remove and len(rows):
+            left = np.flatnonzero(~hit)
+            m = len(left)
+            for name in ("_pos", "_nrm", "_task", "_arc"):
+                a = getattr(self, name)
+                a[:m] = a[left]
+            self._n = m
         return out

@@ -65,3 +65,20 @@ def test_a_sessions_tracing_tasks_are_rows_of_arrays():
     assert np.array_equal(pts[0][0][0], tk.start[0])           # the seed, on the forward half
     (o,) = s.outlines(include_active=True)                       # the halves stitched
     assert len(o.points) == 3 and not o.closed
+
+
+def test_paths_grow_past_their_storage_and_keep_every_point():
+    """A long trace adds points one step at a time, far past the pool's first storage:
+    none is lost or reordered, and removing one task keeps the others' points."""
+    p = Paths()
+    for i in range(300):
+        p.add([1, 2], [i, -i - 1], [[i, 0, 0], [0, i, 0]], [[0, 0, i], [0, 0, -i]])
+    p.add(3, np.arange(5), np.ones((5, 3)), np.ones((5, 3)))     # one batch for one task
+    assert len(p) == 605
+    (a, an), (b, bn) = p.of([1, 2], remove=True)
+    assert a[:, 0].tolist() == list(range(300)) and an[:, 2].tolist() == list(range(300))
+    assert b[:, 1].tolist() == list(range(299, -1, -1))
+    assert len(p) == 5 and p.task.tolist() == [3] * 5 and p.arc.tolist() == [0, 1, 2, 3, 4]
+    p.add(4, 0, [[7, 7, 7]], [[0, 0, 1]])
+    (c, _), = p.of([3])
+    assert c.shape == (5, 3) and p.of([4])[0][0].tolist() == [[7, 7, 7]]
