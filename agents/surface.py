@@ -8,7 +8,7 @@ sign, where the mean curvature changes sign.
 """
 import numpy as np
 
-from ..model.curvature import curvature, field_grad_hessian
+from ..model.curvature import curvature, field_grad_along
 from ..model.projection import newton
 
 SIL, CREASE, CURV = 0, 1, 2
@@ -100,35 +100,41 @@ class Surface:
         fn, gn = self.ev.field_grad(Pn)
         P[rows[has]], f[rows[has]], g[rows[has]] = Pn, fn, gn
 
-    def silhouette_newton(self, Q, T, reach, tol):
+    def silhouette_newton(self, Q, T, reach, tol, back=None):
         """Silhouette points by Newton's method on {f = iso, grad f . v = 0, (x - Q) . T = 0}:
         on the surface, on the silhouette, in the plane through each predicted point Q
         across its tangent T (v: towards the eye, unnormalised for a perspective view).
-        Each iteration is one batched evaluation of field, gradient and Hessian (the
-        Hessian by forward differences of the analytic gradient: four points per point).
-        Returns X, the gradient and Hessian of its last iteration, the silhouette's
-        tangent there (grad f x grad(grad f . v), turned along T: the next step's
-        direction), and whether each point converged (the last step below ``tol``)
-        without a singular system (a cusp, a fold of the silhouette) or moving further
-        than ``reach`` from Q; the caller falls back to bracketing for the others."""
+        Each iteration is one batched evaluation of field and gradient at the points
+        and a little along v (the Jacobian's row of grad f . v needs the Hessian times
+        v alone: model.curvature.field_grad_along, two points per point). Returns X,
+        the gradient of its last iteration, the silhouette's tangent there (grad f x
+        grad(grad f . v), turned along T: the next step's direction), whether each point
+        converged (the last step below ``tol``) without a singular system (a cusp, a fold
+        of the silhouette) or moving further than ``reach`` from Q (the caller falls
+        back to bracketing for the others), and, given ``back`` (a point per row), the
+        Hessian times (X - back) of the last iteration (a third point per point: the
+        gradient at ``back`` predicted from X is the gradient less that), else None."""
         X = np.array(Q, float)
         m = len(X)
         reach = np.broadcast_to(reach, (m,))
-        G, H, Tout = np.zeros((m, 3)), np.zeros((m, 3, 3)), np.array(T, float)
+        G, Tout = np.zeros((m, 3)), np.array(T, float)
+        bend = None if back is None else np.zeros((m, 3))
         ok = np.zeros(m, bool)
         live = np.arange(m)
         for _ in range(NEWTON_ITERS):
             if len(live) == 0:
                 break
             x = X[live]
-            f, g, h = field_grad_hessian(self.ev, x, forward=True)
-            G[live], H[live] = g, h
             if self.view.eye is not None:
                 w = self.view.eye - x
-                ds = np.einsum("nij,nj->ni", h, w) - g
             else:
                 w = np.broadcast_to(-self.view.direction, x.shape)
-                ds = np.einsum("nij,nj->ni", h, w)
+            dirs = [w] if back is None else [w, x - back[live]]
+            f, g, hd = field_grad_along(self.ev, x, dirs)
+            G[live] = g
+            if back is not None:
+                bend[live] = hd[1]
+            ds = hd[0] - g if self.view.eye is not None else hd[0]
             Tl = T[live]
             tan = unit(np.cross(g, ds))
             Tout[live] = np.where(np.einsum("ij,ij->i", tan, Tl)[:, None] < 0, -tan, tan)
@@ -137,7 +143,7 @@ class Surface:
                            np.einsum("ij,ij->i", x - Q[live], Tl)], axis=1)
             # (near) singular: the silhouette turns along the view (a cusp), or the gradient vanishes
             live = newton_update(X, Q, live, J, r, reach, tol, ok)
-        return X, G, H, Tout, ok
+        return X, G, Tout, ok, bend
 
     @staticmethod
     def normals(g):

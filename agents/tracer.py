@@ -103,7 +103,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
         # a converged point is on the surface with n.v = 0 where the field is smooth: a
         # silhouette point, within the bracket's length of it (across a crease, where n.v
         # jumps through zero, Newton finds none and the bisection rejects the bracket)
-        Xs, Gs, _, Ts, conv = surface.silhouette_newton(Q, T, np.linalg.norm(d, axis=1), tol)
+        Xs, Gs, Ts, conv, _ = surface.silhouette_newton(Q, T, np.linalg.norm(d, axis=1), tol)
         got = sil[conv]
         X[got] = A[got] = B[got] = Xs[conv]
         gX[got] = Gs[conv]
@@ -199,11 +199,12 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     tangent = np.zeros((m, 3))                  # the next direction, where Newton gave one
     sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
     if len(sil):
-        Xs, Gs, Hs, Ts, conv = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol)
+        Xs, Gs, Ts, conv, bend = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil],
+                                                           tol, back=P[sil])
         # the gradient at P predicted from X through the Hessian must match P's normal: a
         # step across a crease (a jump of the gradient) goes to the bracketing, which
         # ends a silhouette there
-        back = surface.normals(Gs - np.einsum("nij,nj->ni", Hs, Xs - P[sil]))
+        back = surface.normals(Gs - bend)
         conv &= np.einsum("ij,ij->i", back, nP[sil]) > np.cos(SMOOTH * crease_angle)
         got = sil[conv]
         X[got] = A_out[got] = B_out[got] = Xs[conv]

@@ -18,31 +18,37 @@ def hessian(ev, P, h=None):
     return field_grad_hessian(ev, P, h, centre=False)[2]
 
 
-def field_grad_hessian(ev, P, h=None, centre=True, forward=False):
+def field_grad_hessian(ev, P, h=None, centre=True):
     """Field, gradient and Hessian at P in one batched evaluation (the points and their
-    six offsets); with ``centre`` False only the offsets are evaluated (f, g None).
-    ``forward``: forward differences from the points themselves, three offsets instead
-    of six (error of order h instead of h^2: enough for a Newton step's Jacobian, whose
-    residuals are exact, not for curvature)."""
+    six offsets); with ``centre`` False only the offsets are evaluated (f, g None)."""
     P = as_points(P)
     h = HESSIAN_STEP * ev.scale if h is None else h
     n = len(P)
-    if forward:
-        offs = np.concatenate([np.zeros((1, 3)), np.eye(3) * h])
-    else:
-        offs = np.concatenate([np.eye(3) * h, -np.eye(3) * h] + ([np.zeros((1, 3))] if centre else []))
+    offs = np.concatenate([np.eye(3) * h, -np.eye(3) * h] + ([np.zeros((1, 3))] if centre else []))
     batch = (P[None, :, :] + offs[:, None, :]).reshape(-1, 3)
     f, g = ev.field_grad(batch)
     g = g.reshape(len(offs), n, 3)
-    if forward:
-        H = (g[1:] - g[:1]).transpose(1, 0, 2) / h          # H[n, i, j] = d g_j / d x_i
-        H = 0.5 * (H + H.transpose(0, 2, 1))
-        return f[:n], g[0], H
     H = (g[:3] - g[3:6]).transpose(1, 0, 2) / (2 * h)    # H[n, i, j] = d g_j / d x_i
     H = 0.5 * (H + H.transpose(0, 2, 1))
     if not centre:
         return None, None, H
     return f[6 * n:], g[6], H
+
+
+def field_grad_along(ev, P, dirs, h=None):
+    """Field, gradient and the Hessian times each of ``dirs`` ((k, n, 3)) at P: forward
+    differences of the analytic gradient along each direction, 1 + k points per point
+    in one batch. A Newton step's Jacobian needs only H w, not all of H (whose forward
+    differences take four points per point): the residuals stay exact, the Jacobian's
+    error is of the order of h |w|. Returns f (n,), g (n, 3) and Hd (k, n, 3)."""
+    P = as_points(P)
+    h = HESSIAN_STEP * ev.scale if h is None else h
+    D = np.asarray(dirs, float).reshape(-1, len(P), 3)
+    L = np.linalg.norm(D, axis=2)                           # (k, n)
+    U = D / np.maximum(L, 1e-300)[:, :, None]               # a zero direction stays zero
+    f, g = ev.field_grad(np.concatenate([P[None], P[None] + h * U]).reshape(-1, 3))
+    g = g.reshape(len(D) + 1, len(P), 3)
+    return f[:len(P)], g[0], (g[1:] - g[:1]) * (L / h)[:, :, None]
 
 
 def curvature(ev, P, grad=None):

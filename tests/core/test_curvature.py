@@ -69,17 +69,24 @@ def test_torus_curvature_everywhere():
     assert np.all(c["gauss"][inner] < 0) and np.all(c["gauss"][np.cos(V) > 0.99] > 0)
 
 
-def test_forward_difference_hessian_for_newton_steps():
-    """The silhouette corrector's Hessian: forward differences of the analytic gradient,
-    four points per point (the central one, seven), error of the order of the step."""
-    from blobtree_ink.model.curvature import field_grad_hessian
+def test_hessian_along_directions_for_newton_steps():
+    """The silhouette corrector's Jacobian row: the Hessian times a direction, by forward
+    differences of the analytic gradient along it, one point per direction and point
+    (the full Hessian by central differences takes six), error of the order of the step
+    times the direction's length; a zero direction gives zero."""
+    from blobtree_ink.model.curvature import field_grad_along, field_grad_hessian
     R = 2.0
     C = np.array([0.3, -0.2, 0.1])
     ev = ev_of({"type": "point", "center": list(C), "radius": R})
     P = C + KISO * R * unit_dirs(50)
+    rng = np.random.default_rng(3)
+    W = rng.normal(size=(50, 3)) * 4.0
+    Z = np.zeros((50, 3))
+    Z[::2] = rng.normal(size=(25, 3))
     before = ev.stats.points
-    f, g, H = field_grad_hessian(ev, P, forward=True)
-    assert ev.stats.points - before == 4 * len(P)
+    f, g, Hd = field_grad_along(ev, P, [W, Z])
+    assert ev.stats.points - before == 3 * len(P)
+    assert Hd.shape == (2, 50, 3)
     f0, g0 = ev.field_grad(P)
     np.testing.assert_array_equal(f, f0)
     np.testing.assert_array_equal(g, g0)
@@ -89,8 +96,11 @@ def test_forward_difference_hessian_for_newton_steps():
     uu = u[:, None, None]
     exact = -6 / R ** 2 * (uu ** 2 * np.eye(3) - 4 / R ** 2 * uu * V[:, :, None] * V[:, None, :])
     _, _, Hc = field_grad_hessian(ev, P)
-    step = 1e-5 * ev.scale
     assert np.abs(Hc - exact).max() < 1e-8
-    err = np.abs(H - exact).max()
-    assert 0.1 * step < err < 10 * step                  # first order in the step (1.3 step)
-    np.testing.assert_allclose(H, H.transpose(0, 2, 1))
+    step = 1e-5 * ev.scale
+    for k, D in enumerate((W, Z)):
+        want = np.einsum("nij,nj->ni", exact, D)
+        err = np.abs(Hd[k] - want).max(axis=1) / np.maximum(np.linalg.norm(D, axis=1), 1e-300)
+        assert err.max() < 10 * step                       # first order in the step
+    assert 0.1 * step < err.max()                          # (not exact: a difference)
+    np.testing.assert_array_equal(Hd[1][1::2], 0.0)        # zero directions
