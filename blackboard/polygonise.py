@@ -331,7 +331,9 @@ def thin_parts(ev, mesh, max_probes=200000):
     if not flip.any():
         return np.zeros((0, 3)), np.zeros((0, 3), np.int64)
     E0, E1, Pm, fm, fe0, fe1 = E0[flip], (E0 + step)[flip], Pm[flip], fm[flip], fe0[flip], fe1[flip]
-    X = np.concatenate([refine_crossings(ev, E0, Pm, fe0, fm), refine_crossings(ev, Pm, E1, fm, fe1)])
+    # both crossings of every edge (either side of its extremum) refined in one batch
+    X = refine_crossings(ev, np.concatenate([E0, Pm]), np.concatenate([Pm, E1]), np.concatenate([fe0, fm]),
+                         np.concatenate([fm, fe1]))
     X = project(ev, X, steps=6, max_step=h.max())
     fx, gx = ev.field_grad(X)
     ok = (np.abs(fx - iso) <= 1e-9 * max(1.0, abs(iso))) & (np.einsum("ij,ij->i", gx, gx) > 0)
