@@ -22,7 +22,7 @@ from .outline import Outline
 from .tracer import refine_seeds, trace_step
 from .traced import NO_ARC, SELF_GAP, consume_crossed
 
-SEED_PAUSE = 8          # bisection iterations a seed's refinement takes per system iteration
+SEED_PAUSE = 4          # bisection iterations a seed's refinement takes per system iteration
 SEED_ROUNDS = 6         # ... in at most this many system iterations
 
 _V = ((3,), float)
