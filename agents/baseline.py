@@ -10,6 +10,7 @@ NPR-BT does, with the same tracer as MASSRIS.
 import time
 
 import numpy as np
+from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from ..model import Evaluator
@@ -25,7 +26,7 @@ class Baseline:
         self.ev = model if isinstance(model, Evaluator) else Evaluator(model)
         self.view = view
         self.surface = Surface(self.ev, view)
-        self.rng = np.random.default_rng(seed)
+        self.rng = default_rng(seed)
         self.kinds = kinds
         self.crease_angle = crease_angle
         t0 = time.perf_counter()

@@ -19,6 +19,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID, from_mesh
 from ..blackboard.edges import process_edges
@@ -76,7 +77,7 @@ class Session:
         self.ev = model if isinstance(model, Evaluator) else Evaluator(model)
         self.view = view
         self.surface = Surface(self.ev, view)
-        self.rng = np.random.default_rng(self.settings.seed)
+        self.rng = default_rng(self.settings.seed)
         t0 = time.perf_counter()
         self.mesh = polygonise(self.ev, int(self.settings.resolution))
         starts = np.zeros((0, 3))

@@ -6,6 +6,7 @@ calls it on its worker thread, the tests directly."""
 import dataclasses
 
 import numpy as np
+from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
 from . import layers as L
 from . import smarticles as sm
@@ -22,7 +23,7 @@ def final_strokes(session, request, style, eye, light, line_radius, seed=0, regi
     else:
         st = dataclasses.replace(st, hatching=False, stipples=False, chains=False, short=False)
         region = None
-    strokes = ST.place(session, eye, light, st, np.random.default_rng(seed), line_radius, region)
+    strokes = ST.place(session, eye, light, st, default_rng(seed), line_radius, region)
     warnings = []
     if request == "SINGLE_STROKE":
         stroke = single_stroke(session, style, eye, line_radius, cursor)
@@ -41,7 +42,7 @@ def single_stroke(session, style, eye, line_radius, point, max_steps=60):
         return None
     field = L.direction_field(style.hatch_field, style.hatch_axis, eye)
     res = sm.run(session.ev, P, field, 0.3 * session.h, style.resolved_weights(),
-                 sm.StrokeRules(max_steps=max_steps, stop_on_curvature_sign=False), np.random.default_rng(0))
+                 sm.StrokeRules(max_steps=max_steps, stop_on_curvature_sign=False), default_rng(0))
     p = res.paths[0]
     if len(p) < 2:
         return None
