@@ -175,6 +175,9 @@ class Blackboard:
         self.feat = Grow(pos=((3,), float, 0.0), a=((3,), float, 0.0), b=((3,), float, 0.0),
                          kind=((), np.int8, 0), voxel=((), np.int64, -1), used=((), bool, False),
                          cell=((), float, 0.0), rounds=((), np.int64, 0))
+        self.surface_rows = np.zeros(0, np.int64)       # surface voxels, in the order they came
+        self.corner_pos = np.zeros((0, 8, 3))            # ... their corners
+        self.corner_normal = np.zeros((0, 8, 3))         # ... and the outward normals there (0: none)
 
     # --- voxels ---------------------------------------------------------------------
     def voxel_of(self, P):
@@ -235,6 +238,43 @@ class Blackboard:
     def neighbours(self, rows):
         """(k, 27) rows of the 3x3x3 neighbourhood of each voxel (-1 where absent)."""
         return self.vox["nbr"][np.asarray(rows, np.int64)]
+
+    def add_surface(self, cells, vertices, ev, curvature_fn):
+        """Surface voxels (cells: grid cells (k, 3), none of them surface voxels yet) with
+        a vertex on the surface in each: the voxels and their 26 neighbours join the
+        board, the cells' corner gradients give theta_i (the largest angle between two
+        of them) and corner samples, and the vertices are sampled with their curvature.
+        The polygonisation's cells come in at initialisation; sheets it missed, when
+        agents find them. Returns the surface voxels' rows and the vertices' curvature."""
+        cells = np.asarray(cells, np.int64).reshape(-1, 3)
+        around = unpack(np.unique(pack_around(cells)))     # as _unique_ijk, from the neighbours' keys
+        self.voxel_rows(around)
+        srows = self.voxel_rows(cells)
+        self.vox.cols["surface"][srows] = True
+        # corner gradients of surface voxels: the max angle between them (theta_i)
+        corners = (cells[:, None, :] + _CORNERS[None]).reshape(-1, 3)
+        corner_ijk = _unique_ijk(corners)
+        cpos = self.grid.lo + corner_ijk * self.grid.cell
+        cf, cg = ev.field_grad(cpos)
+        unit = cg / np.maximum(np.linalg.norm(cg, axis=1, keepdims=True), 1e-300)
+        zero = np.linalg.norm(cg, axis=1) == 0
+        idx = np.searchsorted(pack(corner_ijk), pack(corners)).reshape(-1, 8)    # corner_ijk is sorted by key
+        # the 28 pairs of each voxel's corners at once; a pair with a zero gradient counts
+        # as angle 0, and the largest angle is that of the smallest cosine
+        a, b = _CORNER_PAIRS
+        U, z = unit.take(idx, axis=0), zero.take(idx)       # take: fancy indexing is several times slower
+        dot = np.clip(np.einsum("kpd,kpd->kp", U.take(a, axis=1), U.take(b, axis=1)), -1, 1)
+        theta = np.arccos(np.where(z[:, a] | z[:, b], 1.0, dot).min(axis=1, initial=1.0))
+        self.set_theta(srows, theta)
+        # kept per surface voxel for the view-dependent flags of the manager's explorers
+        self.surface_rows = np.concatenate([self.surface_rows, srows])
+        self.corner_pos = np.concatenate([self.corner_pos, cpos.take(idx, axis=0)])                # (k, 8, 3)
+        self.corner_normal = np.concatenate([self.corner_normal, np.where(z[..., None], 0.0, -U)])  # outward, 0: none
+        self.add_samples(cpos, cf, cg, "corner")
+        vf, vg = ev.field_grad(vertices)
+        curv = curvature_fn(vertices, vg)
+        self.add_samples(vertices, vf, vg, "vertex", curv)
+        return srows, curv
 
     # --- samples --------------------------------------------------------------------
     def add_samples(self, pos, f, grad, kind, curv=None):
@@ -314,35 +354,8 @@ class Blackboard:
 
 def from_mesh(mesh: Mesh, ev, curvature_fn):
     """A blackboard initialised from the rough polygonisation: surface voxels and their
-    neighbours, corner samples of surface voxels, and vertex samples with curvature."""
+    neighbours, corner samples of surface voxels, and vertex samples with curvature.
+    Returns it and the vertices' curvature (``curvature_fn(P, grad)``)."""
     bb = Blackboard(mesh.grid, ev.iso)
-    cells = mesh.cells
-    # surface voxels and their 26 neighbours
-    around = unpack(np.unique(pack_around(cells)))     # as _unique_ijk, from the neighbours' keys
-    bb.voxel_rows(around)
-    srows = bb.voxel_rows(cells)
-    bb.vox.cols["surface"][srows] = True
-    # corner gradients of surface voxels: the max angle between them (theta_i)
-    corners = (cells[:, None, :] + _CORNERS[None]).reshape(-1, 3)
-    corner_ijk = _unique_ijk(corners)
-    cpos = mesh.grid.lo + corner_ijk * mesh.grid.cell
-    cf, cg = ev.field_grad(cpos)
-    unit = cg / np.maximum(np.linalg.norm(cg, axis=1, keepdims=True), 1e-300)
-    zero = np.linalg.norm(cg, axis=1) == 0
-    idx = np.searchsorted(pack(corner_ijk), pack(corners)).reshape(-1, 8)    # corner_ijk is sorted by key
-    # the 28 pairs of each voxel's corners at once; a pair with a zero gradient counts
-    # as angle 0, and the largest angle is that of the smallest cosine
-    a, b = _CORNER_PAIRS
-    U, z = unit.take(idx, axis=0), zero.take(idx)       # take: fancy indexing is several times slower
-    dot = np.clip(np.einsum("kpd,kpd->kp", U.take(a, axis=1), U.take(b, axis=1)), -1, 1)
-    theta = np.arccos(np.where(z[:, a] | z[:, b], 1.0, dot).min(axis=1, initial=1.0))
-    bb.set_theta(srows, theta)
-    # kept per surface voxel for the view-dependent flags of the manager's explorers
-    bb.surface_rows = srows
-    bb.corner_pos = cpos.take(idx, axis=0)                                  # (k, 8, 3)
-    bb.corner_normal = np.where(z[..., None], 0.0, -U)                      # outward, 0: none
-    bb.add_samples(cpos, cf, cg, "corner")
-    vf, vg = ev.field_grad(mesh.vertices)
-    curv = curvature_fn(mesh.vertices, vg)
-    bb.add_samples(mesh.vertices, vf, vg, "vertex", curv)
+    _, curv = bb.add_surface(mesh.cells, mesh.vertices, ev, curvature_fn)
     return bb, curv
