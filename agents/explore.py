@@ -54,8 +54,9 @@ def _flags(session):
 _PAIRS = np.array([(i, j) for i in range(8) for j in range(i + 1, 8)])
 
 
-def corner_features(session):
-    """Identify feature points in the flagged voxels where the polygon edges found none
+def corner_features(session, rows=None):
+    """Identify feature points in the flagged voxels (of the surface voxel ``rows``, or
+    all) where the polygon edges found none
     of that kind: the voxel's eight corners are projected onto the surface (one batch,
     each towards the projection of the voxel's centre where its own field is flat) and,
     of the 28 pairs of projected corners with a sign change of n.v (silhouette) or
@@ -67,6 +68,8 @@ def corner_features(session):
     bb = s.bb
     kinds = [k for k in ("silhouette", "crease") if k in s.settings.kinds]
     flag = _flags(s)
+    if rows is not None:
+        flag &= np.isin(bb.surface_rows, rows)
     if not kinds or not flag.any():
         return 0
     rows = bb.surface_rows[flag]

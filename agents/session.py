@@ -80,10 +80,7 @@ class Session:
         self.rng = default_rng(self.settings.seed)
         t0 = time.perf_counter()
         self.mesh = polygonise(self.ev, int(self.settings.resolution))
-        starts = np.zeros((0, 3))
-        if self.settings.explore_detail:
-            self.mesh, starts = explore.missed_sheets(self.ev, self.mesh)
-        self.bb, curv = from_mesh(self.mesh, self.ev, lambda P, g: curvature(self.ev, P, g))
+        self.bb, curv = from_mesh(self.mesh, self.ev, self._curvature)
         normals = curv["normal"]
         feats = process_edges(self.mesh, normals, curv["mean"], view, self.settings.crease_angle)
         for kind in self.settings.kinds:
@@ -96,9 +93,9 @@ class Session:
         self.h = self.bb.h
         self.step_len = self.settings.step * self.h
         self.tol = self.settings.tolerance * self.ev.scale
+        walls = np.zeros((0, 3))
         if self.settings.explore_detail:
             walls, centres = explore.subtracted_walls(self, self.ev.model)
-            starts = np.concatenate([starts, walls])
             explore.subdivide(self, walls, centres)
         self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), self.settings.lod)["priority"]
         self.init_seconds = time.perf_counter() - t0
@@ -115,19 +112,64 @@ class Session:
         self.requests = []
         self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once
-        # explorers start on the sheets the polygonisation missed (probe points) and on
-        # the walls of subtracted parts: voxel row -> start point
+        # explorers start on the sheets the polygonisation missed (probe points, found
+        # once explorers are wanted: _explorer_starts) and on the walls of subtracted
+        # parts: voxel row -> start point
         self.explore_from = {}
-        self._starts = starts
+        self._walls = walls
+        self._missed = None
+
+    def _curvature(self, P, g):
+        return curvature(self.ev, P, g)
+
+    def _explorer_starts(self):
+        """Where explorers start: on the sheets the rough polygonisation missed (parts
+        thinner than a cell: explore.missed_sheets), whose voxels join the blackboard
+        as surface voxels the first time this is asked (their corners flagged for
+        features like the polygon's, their neighbourhood's priorities updated), and on
+        the walls of subtracted parts (found at initialisation, where they subdivide
+        voxels)."""
+        if self._missed is None:
+            self._missed = np.zeros((0, 3))
+            if self.settings.explore_detail:
+                mesh, self._missed = explore.missed_sheets(self.ev, self.mesh)
+                k = len(self.mesh.vertices)
+                if len(mesh.vertices) > k:
+                    rows, curv = self.bb.add_surface(mesh.cells[k:], mesh.vertices[k:], self.ev, self._curvature)
+                    self.mesh = mesh
+                    self.vertex_normals = np.concatenate([self.vertex_normals, curv["normal"]])
+                    self.vertex_curvature = {key: np.concatenate([v, curv[key]])
+                                             for key, v in self.vertex_curvature.items()}
+                    explore.corner_features(self, rows)
+                    self._reprioritise(rows)
+        return np.concatenate([self._missed, self._walls])
+
+    def _reprioritise(self, rows):
+        """Equation 3's priorities again for the voxels around these (new ones start at 0)."""
+        mark = np.zeros(self.bb.vox.n, bool)
+        mark[rows] = True
+        nb = self.bb.neighbours(np.flatnonzero(mark))
+        mark[:] = False
+        mark[nb[nb >= 0]] = True
+        around = np.flatnonzero(mark)
+        if len(self.priority) < self.bb.vox.n:
+            self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
+        self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
 
     def _queue_detail(self):
         """Once the polygon edges' seeds are taken and few traces are left: seed the
         silhouettes beside traced ones (agents/beside.py), and explore the voxels the
         blackboard flags (corner normals that disagree) that no traced outline passes
         through, in order of priority, for outlines smaller than a grid cell."""
+        outlines = [r for k, r in self.requests if k == "OUTLINES"]
+        starts = self._explorer_starts() if outlines else None
         self._detail = explore.flagged_voxels(self)
-        if not any(k == "OUTLINES" for k, _ in self.requests):
+        if not outlines:
             return
+        # explorers start on the missed sheets and the subtracted walls first (an
+        # outline request's: the polygon's seeds, traced by then, find most outlines)
+        for region in outlines:
+            explore.queue_starts(self, starts, region)
         seeds_beside_silhouettes(self, self._in_regions)
         if len(self._detail) == 0:
             return
@@ -150,8 +192,8 @@ class Session:
             self._queue_exploration(region, all_surface=True)
         elif kind == "OUTLINES" and region is not None:
             self._queue_exploration(region, all_surface=False)
-        if kind in ("OUTLINES", "FIND_FEATURES"):
-            explore.queue_starts(self, self._starts, region)
+        if kind == "FIND_FEATURES":
+            explore.queue_starts(self, self._explorer_starts(), region)
 
     def _queue_exploration(self, region, all_surface):
         v = self.bb.vox
@@ -179,7 +221,9 @@ class Session:
 
     @property
     def done(self):
-        return self.tasks_left == 0
+        # the detail phase (explorers, seeds beside silhouettes) may still add tasks
+        detail_due = self.settings.explore_detail and self._detail is None and bool(self.requests)
+        return self.tasks_left == 0 and not detail_due
 
     def _open_seeds(self):
         ids = self.bb.open_features()
@@ -199,15 +243,7 @@ class Session:
         touched += trace_tasks.step(self)
         touched += explore.step(self)
         if touched:
-            mark = np.zeros(self.bb.vox.n, bool)
-            mark[np.concatenate(touched)] = True
-            nb = self.bb.neighbours(np.flatnonzero(mark))
-            mark[:] = False
-            mark[nb[nb >= 0]] = True
-            around = np.flatnonzero(mark)
-            if len(self.priority) < self.bb.vox.n:
-                self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
-            self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
+            self._reprioritise(np.concatenate(touched))
         self.iteration += 1
         # the detail phase starts once the edge seeds are taken and only a few traces are
         # left (a long outline's last steps take many cheap iterations)

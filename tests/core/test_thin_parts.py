@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from blobtree_ink import model as M
-from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents import Session, Settings, manager
 from blobtree_ink.blackboard.polygonise import polygonise, thin_parts
 from blobtree_ink.blackboard.view import View
 
@@ -75,3 +75,42 @@ def test_a_session_traces_the_rim_of_the_missed_disc(missed):
     ang = np.arctan2(pts[:, 2] - centre[2], pts[:, 0] - centre[0])
     hist, _ = np.histogram(ang, bins=8, range=(-np.pi, np.pi))
     assert np.all(hist > 0)
+
+
+def _disc_surface_voxels(s, centre):
+    """The blackboard's surface voxels within reach of the disc."""
+    c = s.bb.lo + (s.bb.vox["ijk"][s.bb.surface_rows] + 0.5) * s.h
+    return np.linalg.norm(c - centre, axis=1) < 0.8
+
+
+def test_an_outline_request_probes_for_missed_sheets_once_the_polygon_seeds_are_traced(missed):
+    """The probing and its explorers wait for the detail phase of an outline request
+    (the polygon's own seeds find most outlines first); then the disc's voxels join the
+    blackboard as surface voxels, their corners are searched for feature points like
+    the polygon's, and explorers are queued there ahead of the flagged voxels. A
+    find-features request wants the explorers at once."""
+    y, ev, _ = missed
+    centre = DISC_C + [0, y, 0]
+    view = View(eye=(2.4, -6.0, 3.0))
+    s = Session(ev, view, Settings(resolution=10))
+    s.request("OUTLINES")
+    assert not _disc_surface_voxels(s, centre).any() and not s.explore_queue and not s.done
+    before = len(s.bb.surface_rows)
+    while s._detail is None:
+        s.step()
+    new = s.bb.surface_rows[before:]
+    assert len(new) >= 2 and _disc_surface_voxels(s, centre)[before:].all()
+    starts = [r for r, p in s.explore_from.items() if np.linalg.norm(p - centre) < 0.8]
+    assert starts and set(starts) <= set(s.explore_queue) | s.explored
+    assert s.explore_queue[:len(starts)] == sorted(starts, key=s.explore_queue.index)     # ahead of the rest
+    on_disc = np.linalg.norm(s.bb.feat["pos"][:s.bb.feat.n] - centre, axis=1) < 0.8
+    assert on_disc.any()                                       # corner feature points of the disc's voxels
+    # the new voxels have their priorities (equation 3), not the zeros they were appended with
+    fresh = manager.priorities(s.bb, new, s.settings.lod)["priority"]
+    assert len(s.priority) == s.bb.vox.n and (fresh > 0).any()     # (no corner inside: 0 from the table)
+    np.testing.assert_allclose(s.priority[new], fresh)
+
+    f = Session(ev, view, Settings(resolution=10))
+    f.request("FIND_FEATURES")
+    assert _disc_surface_voxels(f, centre).sum() >= 2
+    assert any(np.linalg.norm(p - centre) < 0.8 for p in f.explore_from.values())
