@@ -54,9 +54,13 @@ def run():
     region = [r for r in view3d.regions if r.type == "WINDOW"][0]
     with bpy.context.temp_override(window=win, area=view3d, region=region):
         bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "heart.json"), preview=False)
-    bpy.ops.ed.undo_push(message="imported")
     tree = bpy.data.node_groups["heart"]
     tree.ink.grid_resolution = 20
+    # few agents: many more (smaller) iterations, so that both runs are still going when
+    # Escape is pressed or the tree edited (with the default 4000 the heart is done in
+    # about a second); set before the undo step, which the second run starts from
+    tree.ink.agents = 16
+    bpy.ops.ed.undo_push(message="imported")
     ill = sys.modules[EXT + ".operators.illustrate"]
     bpy.app.timers.register(other_timer, first_interval=0.1)
     yield 2.0
