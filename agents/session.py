@@ -41,7 +41,7 @@ DETAIL_AFTER = 4            # traces left when the detail phase may start
 @dataclass
 class Settings:
     resolution: int = 20               # about resolution^3 cubic grid cells over the model (8..128)
-    agents: int = 4000                 # agents stepped together; more agents, fewer (larger) iterations
+    agents: int = 10000                # agents stepped together; more agents, fewer (larger) iterations
     lod: float = 0.5                   # user level of detail, 0..1
     step: float = 0.3                  # trace step, in voxel sizes
     tolerance: float = 1e-8            # outline location, as a fraction of the model's size

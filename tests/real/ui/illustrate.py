@@ -57,7 +57,7 @@ def run():
     tree = bpy.data.node_groups["heart"]
     tree.ink.grid_resolution = 20
     # few agents: many more (smaller) iterations, so that both runs are still going when
-    # Escape is pressed or the tree edited (with the default 4000 the heart is done in
+    # Escape is pressed or the tree edited (with the default 10000 the heart is done in
     # about a second); set before the undo step, which the second run starts from
     tree.ink.agents = 16
     bpy.ops.ed.undo_push(message="imported")
