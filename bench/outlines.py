@@ -191,7 +191,7 @@ def main():
         tm, tb = t95(mas), (t95(base) if base else None)
         ratio = f"{tb / tm:.1f}x" if tm and tb else "-"
         said = f"baseline {base[-1][1]:.3f} after {base[-1][0]:.1f}s" if base else "baseline not run"
-        print(f"{name:7} {int(gt.sum()):7d} {tm if tm is None else round(tm, 2)!s:>12} "
+        print(f"{name:7} {int(gt.sum()):7d} {tm if tm is None else round(tm, 3)!s:>12} "
               f"{tb if tb is None else round(tb, 2)!s:>13} {ratio:>7}  MASSRIS {mas[-1][1]:.3f} "
               f"after {mas[-1][0]:.1f}s, {said}", flush=True)
         series += [(f"{name} MASSRIS", mas), (f"{name} baseline", base)]
