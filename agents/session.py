@@ -157,10 +157,12 @@ class Session:
         self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
 
     def _queue_detail(self):
-        """Once the polygon edges' seeds are taken and few traces are left: seed the
-        silhouettes beside traced ones (agents/beside.py), and explore the voxels the
-        blackboard flags (corner normals that disagree) that no traced outline passes
-        through, in order of priority, for outlines smaller than a grid cell."""
+        """Once the polygon edges' seeds are taken and few traces are left: send
+        explorers to the sheets the polygonisation missed and to the walls of subtracted
+        parts (:meth:`_explorer_starts`), seed the silhouettes beside traced ones
+        (agents/beside.py), and explore the voxels the blackboard flags (corner normals
+        that disagree) that no traced outline passes through, in order of priority, for
+        outlines smaller than a grid cell."""
         outlines = [r for k, r in self.requests if k == "OUTLINES"]
         starts = self._explorer_starts() if outlines else None
         self._detail = explore.flagged_voxels(self)
