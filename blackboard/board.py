@@ -240,7 +240,7 @@ class Blackboard:
         return self.vox["nbr"][np.asarray(rows, np.int64)]
 
     def add_surface(self, cells, vertices, ev, curvature_fn):
-        """Surface voxels (cells: grid cells (k, 3), none of them surface voxels yet) with
+        """Surface voxels (cells: grid cells (k, 3), none of them in ``surface_rows`` yet) with
         a vertex on the surface in each: the voxels and their 26 neighbours join the
         board, the cells' corner gradients give theta_i (the largest angle between two
         of them) and corner samples, and the vertices are sampled with their curvature.

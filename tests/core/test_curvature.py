@@ -102,5 +102,5 @@ def test_hessian_along_directions_for_newton_steps():
         want = np.einsum("nij,nj->ni", exact, D)
         err = np.abs(Hd[k] - want).max(axis=1) / np.maximum(np.linalg.norm(D, axis=1), 1e-300)
         assert err.max() < 10 * step                       # first order in the step
-    assert 0.1 * step < err.max()                          # (not exact: a difference)
+        assert 0.1 * step < err.max()                      # (not exact: a difference)
     np.testing.assert_array_equal(Hd[1][1::2], 0.0)        # zero directions
