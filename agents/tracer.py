@@ -173,7 +173,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
-def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=None, pins=None, team=None):
+def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=None, team=None):
     """One predictor-corrector step for each task (a :class:`Step`; ok False: lost).
 
     Silhouettes (given ``nP``, the normals at P) are corrected by Newton's method
@@ -182,9 +182,11 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     (``team``: (A, B), which way is which side) (agents.sheets); the others by
     bracketing across the tangent and bisecting (tens of evaluations), a crease's new
     records taken at its bracket's ends. A silhouette step Newton does not settle, or
-    that crossed a crease, is not ok where ``retry`` (the caller will retry it with a
-    shorter step) and is bracketed otherwise; a crease step the sheets' Newton does
-    not settle is bracketed."""
+    that crossed a crease, is not ok (the caller retries it with a shorter step, and
+    past its shortest the silhouette ends there: at a crease, where Newton's test sees
+    the normal jump; bracketing it then, tens of tiny sequential batches, found a
+    point for one step in eight on the train's tails and the next step failed again);
+    a crease step the sheets' Newton does not settle is bracketed."""
     m = len(P)
     use = sheets.usable(surface)
     if pins is None or not use:
@@ -227,8 +229,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
         tangent[got] = np.where(np.einsum("ij,ij->i", tc, T[got])[:, None] < 0, -tc, tc)
         found[got] = newton[got] = True
     todo = ~found
-    if len(sil) and retry is not None:
-        todo[sil] &= ~retry[sil]
+    todo[sil] = False
     rest = np.flatnonzero(todo)
     if len(rest):
         Xb, Ab, Bb, nAb, nBb, fb = _bracket_step(surface, kinds[rest], P[rest], T[rest], ref[rest], h[rest],
@@ -246,13 +247,6 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, retry=N
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA_out, nB_out), -1, 1))
     jumped = ang > 0.5 * crease_angle
     ok &= np.where(kinds == CREASE, jumped, ~jumped)   # a silhouette ends where it meets a crease
-    if nP is not None:
-        # nor does a bracketed silhouette step over a crease onto another sheet's
-        # silhouette (its bracket then lies wholly on the far sheet): the normal may not
-        # turn by the crease angle in one step (a Newton step has the finer Hessian test
-        # above; on a bumpy surface its normal may turn that much along the silhouette)
-        turn = np.einsum("ij,ij->i", surface.normals(gX), nP) < np.cos(crease_angle)
-        ok &= ~((kinds == SIL) & turn & ~newton)
     step = X - P
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
