@@ -20,8 +20,38 @@ from .polygonise import edge_ends, refine_crossings
 
 # the fine-cell edges of cell (i, j, l), per axis: offsets of their lower corners
 _CELL_EDGES = [(a, d1, d2) for a in range(3) for d1 in (0, 1) for d2 in (0, 1)]
-_PAIRS = np.array([(i, j) for i in range(12) for j in range(i + 1, 12)])
+_PAIRS_OF = {k: np.array([(i, j) for i in range(k) for j in range(i + 1, k)]) for k in (4, 12)}
 MAX_CORNERS = 4_000_000        # fine corners evaluated in one call (memory stays bounded)
+
+
+def _closest_pairs(E, valid, X, accept):
+    """In each cell (a row of E: its twelve edges' crossing numbers, ``valid`` where
+    usable), the closest pair of valid crossings that ``accept(ia, ib)`` takes (arrays of
+    crossing numbers, (cells, pairs) -> bool); returns the pairs' points (a, b), in cell
+    order, a on the edge that comes first, for the cells that have one. A cell's valid
+    crossings are moved to the front first (in edge order: the pairs keep their order),
+    and cells with at most four of them (most) try their six pairs, not all 66."""
+    count = valid.sum(axis=1)
+    front = np.take_along_axis(E, np.argsort(~valid, axis=1, kind="stable"), axis=1)
+    rows_out, a_out, b_out = [], [], []
+    for lo, hi in ((1, 4), (4, 12)):
+        rows = np.flatnonzero((count > lo) & (count <= hi))
+        if len(rows) == 0:
+            continue
+        pairs = _PAIRS_OF[hi]
+        ia, ib = front[rows][:, pairs[:, 0]], front[rows][:, pairs[:, 1]]
+        use = pairs[None, :, 1] < count[rows, None]
+        XA, XB = X[ia], X[ib]
+        score = np.where(use & accept(ia, ib), np.linalg.norm(XA - XB, axis=2), np.inf)
+        best = score.argmin(axis=1)
+        c = np.flatnonzero(np.isfinite(score[np.arange(len(rows)), best]))
+        rows_out.append(rows[c])
+        a_out.append(XA[c, best[c]])
+        b_out.append(XB[c, best[c]])
+    if not rows_out:
+        return np.zeros((0, 3)), np.zeros((0, 3))
+    order = np.argsort(np.concatenate(rows_out), kind="stable")
+    return np.concatenate(a_out)[order], np.concatenate(b_out)[order]
 
 
 def fine_grid_points(lo, h, ijk, k):
@@ -93,7 +123,6 @@ def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
         return empty
     E, valid = E[cells], valid[cells]
     E = np.where(valid, E, 0)
-    a, b = _PAIRS[:, 0], _PAIRS[:, 1]
     out = {}
     for kind in kinds:
         if kind == "silhouette":
@@ -101,25 +130,21 @@ def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
             S = s[E]
             # only cells whose valid crossings see both signs can hold such a pair
             cand = np.flatnonzero(np.any(valid & S, axis=1) & np.any(valid & ~S, axis=1))
-            Ec, vc, Sc = E[cand], valid[cand], S[cand]
-            pair = Sc[:, a] != Sc[:, b]
+
+            def accept(ia, ib):
+                return s[ia] != s[ib]
         elif kind == "crease":
             # a pair apart by more than the angle needs a crossing more than half the
             # angle from the cell's first valid one (the triangle inequality on the sphere)
             ref = N[E[np.arange(len(E)), valid.argmax(axis=1)]]
             spread = np.einsum("cek,ck->ce", N[E], ref) < np.cos(0.5 * crease_angle)
             cand = np.flatnonzero(np.any(valid & spread, axis=1))
-            Ec, vc = E[cand], valid[cand]
-            dot = np.einsum("cpk,cpk->cp", N[Ec[:, a]], N[Ec[:, b]])
-            pair = np.arccos(np.clip(dot, -1, 1)) > crease_angle
+
+            def accept(ia, ib):
+                return np.arccos(np.clip(np.einsum("cpk,cpk->cp", N[ia], N[ib]), -1, 1)) > crease_angle
         else:
             continue
-        XA, XB = X[Ec[:, a]], X[Ec[:, b]]                               # (c, 66, 3)
-        dist = np.linalg.norm(XA - XB, axis=2)
-        score = np.where(vc[:, a] & vc[:, b] & pair, dist, np.inf)
-        best = score.argmin(axis=1)
-        c = np.flatnonzero(np.isfinite(score[np.arange(len(score)), best]))
-        pa, pb = XA[c, best[c]], XB[c, best[c]]
+        pa, pb = _closest_pairs(E[cand], valid[cand], X, accept)
         mid = 0.5 * (pa + pb)
         # one feature point per kind in each block of 2^3 fine cells: neighbouring fine
         # cells on one outline would each start a trace of it

@@ -6,7 +6,7 @@ import numpy as np
 
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents.outline import Outline
-from blobtree_ink.blackboard.subdivide import fine_features
+from blobtree_ink.blackboard.subdivide import _closest_pairs, fine_features
 from blobtree_ink.blackboard.view import View
 
 from test_massris import K, model_of
@@ -111,3 +111,43 @@ def test_the_crease_circles_of_sub_cell_holes_are_traced_on_the_analytic_circles
         ang = np.arctan2(front[:, 2] - c[2], front[:, 0] - c[0])
         hist, _ = np.histogram(ang, bins=8, range=(-np.pi, np.pi))
         assert np.all(hist > 0), hist
+
+
+def test_the_closest_accepted_pair_of_a_cells_crossings_is_that_of_all_66_pairs():
+    """_closest_pairs tries only the pairs among a cell's valid crossings (six for most
+    cells): against every pair of the twelve edges, on random cells of two to twelve
+    valid crossings, it picks the same pair (the first of equal ones), a on the edge
+    that comes first, and no pair where none is accepted."""
+    rng = np.random.default_rng(3)
+    X = rng.random((400, 3))
+    side = rng.random(400) < 0.5
+    cells = 300
+    E = rng.integers(0, 400, (cells, 12))
+    count = rng.integers(2, 13, cells)
+    valid = np.zeros((cells, 12), bool)
+    for c in range(cells):
+        valid[c, rng.choice(12, count[c], replace=False)] = True
+    valid[:5] = False                               # a few cells with one usable crossing or none
+    valid[:3, 7] = True
+    E[5, :] = E[5, 0]                               # a cell whose crossings all lie on one side
+    side[E[5, 0]] = True
+
+    def accept(ia, ib):
+        return side[ia] != side[ib]
+
+    a, b = _closest_pairs(E, valid, X, accept)
+    want_a, want_b = [], []
+    for c in range(cells):
+        best = None
+        for i in range(12):
+            for j in range(i + 1, 12):
+                if valid[c, i] and valid[c, j] and side[E[c, i]] != side[E[c, j]]:
+                    d = np.linalg.norm(X[E[c, i]] - X[E[c, j]])
+                    if best is None or d < best[0]:
+                        best = (d, i, j)
+        if best is not None:
+            want_a.append(X[E[c, best[1]]])
+            want_b.append(X[E[c, best[2]]])
+    assert 250 < len(want_a) < cells - 4
+    np.testing.assert_array_equal(a, np.array(want_a))
+    np.testing.assert_array_equal(b, np.array(want_b))
