@@ -128,7 +128,7 @@ def step(self):
     kinds, h, base = tk.kind, tk.h, tk.base
     retry = h > base / 16                  # a failed step may still be halved
     st = trace_step(self.surface, kinds, tk.p, tk.t, tk.ref, h, self.tol, self.settings.crease_angle, tk.last_n,
-                    tk.pins, (tk.team_a, tk.team_b))
+                    tk.pins, (tk.team_a, tk.team_b), retry)
     X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
     side_seeds = crease_seeds.silhouettes_off_creases(self, tk, X, st.A, st.B, st.nA, st.nB, ok)
     rows = self.bb.add_samples(X, st.f, st.g, "path")

@@ -1,6 +1,7 @@
 """The silhouette corrector by Newton's method (Surface.silhouette_newton) and how a
 trace step uses it: exact silhouette points in a few evaluations, and no step across
 a crease (the bracketing ends a silhouette there)."""
+import functools
 import math
 
 import numpy as np
@@ -166,3 +167,49 @@ def test_silhouette_seeds_are_refined_by_newton_and_one_across_a_crease_is_not()
     assert nv[0] < -0.5 and nv[1] > 0.5
     X, n, T, ref, _, _, valid, _, _ = refine_seeds(s2, np.array([SIL]), A[None], B[None], 1e-10, math.radians(35))
     assert not valid[0]
+
+
+def test_a_crease_step_newton_cannot_settle_is_retried_shorter_before_it_is_bracketed(monkeypatch):
+    """Two overlapping balls and a small third one over their crease circle, a little
+    ahead: a crease step whose end lands under the third ball (the sheets' meeting is
+    no crease there) is not settled by the sheets' Newton. With a retry left it is not
+    bracketed (the caller halves it; no bracketing batch runs) and the point stays put;
+    without one it is bracketed. The halved step settles on the crease circle."""
+    import blobtree_ink.agents.tracer as tracer_mod
+    from blobtree_ink.agents import sheets
+    from blobtree_ink.agents.surface import CREASE
+    c1 = np.array([0.9, 0, 0])
+    r0, r1 = K * 1.5, K * 1.2
+    xc = (r0 ** 2 - r1 ** 2 + 0.81) / 1.8
+    rc = math.sqrt(r0 ** 2 - xc ** 2)
+    ev = M.Evaluator(model_of({"type": "union", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.5},
+        {"type": "point", "center": list(c1), "radius": 1.2},
+        {"type": "point", "center": [xc + 0.1, rc * math.cos(0.5), rc * math.sin(0.5)], "radius": 0.25}]}))
+    surf = Surface(ev, View(direction=(0.0, 1.0, 0.0)))
+    P = np.array([[xc, rc, 0.0]])                                   # on the crease circle (plane x = xc)
+    T = np.array([[0.0, 0.0, 1.0]])                                 # along it, towards the third ball
+    ref = P / r0 - (P - c1) / r1
+    A, _, _ = surf.project(P + [[-0.02, 0, 0]])
+    B, _, _ = surf.project(P + [[0.02, 0, 0]])
+    pins = sheets.record_ends(surf, A, B)[0]
+    assert sheets.apart(pins).all()
+    calls = []
+    real = tracer_mod._bracket_step
+
+    def spy(surface, kinds, *args):
+        calls.append(len(kinds))
+        return real(surface, kinds, *args)
+
+    monkeypatch.setattr(tracer_mod, "_bracket_step", spy)
+    step = functools.partial(trace_step, surf, np.array([CREASE]), P, T, ref, tol=1e-10,
+                             crease_angle=math.radians(35), pins=pins, team=(A, B))
+    st = step(np.array([0.2]), retry=np.array([True]))
+    assert not st.ok[0] and calls == []
+    np.testing.assert_array_equal(st.X, P)
+    step(np.array([0.2]), retry=np.array([False]))
+    assert calls == [1]
+    st = step(np.array([0.1]), retry=np.array([True]))
+    assert st.ok[0] and calls == [1]
+    np.testing.assert_allclose([np.linalg.norm(st.X[0]), np.linalg.norm(st.X[0] - c1)], [r0, r1], atol=1e-9)
+    assert st.X[0, 2] > 0.09
