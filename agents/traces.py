@@ -24,6 +24,7 @@ from .traced import NO_ARC, SELF_GAP, consume_crossed
 
 SEED_PAUSE = 4          # bisection iterations a seed's refinement takes per system iteration
 SEED_ROUNDS = 6         # ... in at most this many system iterations
+NARROWED = 0.9          # ... each narrowing its bracket below this fraction of its width
 
 _V = ((3,), float)
 
@@ -110,10 +111,15 @@ def requeue(self, ids, A, B):
     """Seeds whose bisection paused (one agent action per system iteration) go back on
     the blackboard with their narrowed brackets, to be refined again in a later
     iteration; one that has paused SEED_ROUNDS times already is dropped (a bracket
-    still narrowing after that many bisections holds no outline point it can reach)."""
+    still narrowing after that many bisections holds no outline point it can reach),
+    and so is one whose bracket did not narrow below NARROWED of its width in this
+    round (a stuck bracket: on the train, about 130 silhouette seeds from the third
+    round on kept their width to within 5 % through every later round, and only one
+    of them ever became a seed)."""
     f = self.bb.feat
     rounds = f["rounds"][ids] + 1
     keep = rounds < SEED_ROUNDS
+    keep &= np.linalg.norm(B - A, axis=1) < NARROWED * np.linalg.norm(f["b"][ids] - f["a"][ids], axis=1)
     for k in np.unique(f["kind"][ids[keep]]):
         m = keep & (f["kind"][ids] == k)
         self.bb.add_features(0.5 * (A[m] + B[m]), A[m], B[m], FEATURE_KINDS[k], f["cell"][ids[m]], rounds[m])

@@ -91,3 +91,27 @@ def test_a_seed_open_after_its_last_round_is_dropped(load_example, monkeypatch):
     f = s.bb.feat
     assert not (f["rounds"][:f.n] > 0).any()
     assert s.outlines()                      # the seeds Newton settles still start traces
+
+
+def test_a_seed_whose_bracket_did_not_narrow_is_dropped():
+    """requeue puts a paused seed back with its narrowed bracket, one round more, but
+    not one whose bracket kept NARROWED of its width or more in the round (a stuck
+    bisection), nor one at its last round."""
+    from test_massris import model_of
+    s = Session(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}), View(eye=(0.0, -5.0, 1.0)),
+                Settings(resolution=8))
+    f = s.bb.feat
+    a = np.array([[K, 0.0, 0.0], [0.0, 0.0, K], [-K, 0.0, 0.0], [0.0, 0.0, -K]])
+    b = a + [0.0, -0.2, 0.0]
+    ids = s.bb.add_features(0.5 * (a + b), a, b, "silhouette")
+    f["rounds"][ids[3]] = TS.SEED_ROUNDS - 1
+    n0 = f.n
+    # the first bracket narrowed to a half, the second to just under NARROWED, the
+    # third not quite (it is stuck), the fourth narrowed but is at its last round
+    frac = np.array([0.5, TS.NARROWED - 0.01, TS.NARROWED + 0.01, 0.5])
+    A, B = a, a + frac[:, None] * (b - a)
+    TS.requeue(s, ids, A, B)
+    assert f.n == n0 + 2
+    np.testing.assert_array_equal(f["a"][n0:f.n], A[:2])
+    np.testing.assert_array_equal(f["b"][n0:f.n], B[:2])
+    np.testing.assert_array_equal(f["rounds"][n0:f.n], [1, 1])
