@@ -110,8 +110,8 @@ class Surface:
         the gradient of its last iteration, the silhouette's tangent there (grad f x
         grad(grad f . v), turned along T: the next step's direction), whether each point
         converged (the last step below ``tol``) without a singular system (a cusp, a fold
-        of the silhouette) or moving further than ``reach`` from Q (the caller falls
-        back to bracketing for the others), and, given ``back`` (a point per row), the
+        of the silhouette) or moving further than ``reach`` from Q (a seed's
+        refinement bisects the others, a trace retries them shorter), and, given ``back`` (a point per row), the
         Hessian times (X - back) of the last iteration (a third point per point: the
         gradient at ``back`` predicted from X is the gradient less that), else None."""
         X = np.array(Q, float)

@@ -208,8 +208,8 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         Xs, Gs, Ts, conv, bend = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil],
                                                            tol, back=P[sil])
         # the gradient at P predicted from X through the Hessian must match P's normal: a
-        # step across a crease (a jump of the gradient) goes to the bracketing, which
-        # ends a silhouette there
+        # step across a crease (a jump of the gradient) is refused (retried shorter, and
+        # past the shortest step the silhouette ends at the crease)
         back = surface.normals(Gs - bend)
         conv &= np.einsum("ij,ij->i", back, nP[sil]) > np.cos(SMOOTH * crease_angle)
         got = sil[conv]
