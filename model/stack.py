@@ -19,6 +19,9 @@ from .groups import Group
 
 STACK_MIN = 3                 # fewer identical subtrees are left as they are
 PAIR_BLOCK = 1 << 22          # booleans per block of the (point, member) box test
+GRID_MIN_MEMBERS = 8          # stacks of this many members look their boxes up in a grid ...
+GRID_MIN_PAIRS = 1 << 15      # ... for batches of at least this many (point, member) tests
+GRID_MAX_DIM = 64             # cells of that grid along an axis, at most
 # subtrees that would evaluate more primitives than this on each point keep their own
 # spatial pruning (a stack evaluates every position of a member on each of its points:
 # every primitive of a small group, the nearby ones of a gridded group)
@@ -110,15 +113,21 @@ class Stack:
             self.vlo, self.vhi = float(sum(vl)), float(sum(vh))
         else:
             self.vlo, self.vhi = float(max(vl)), float(max(vh))
+        self.grid = _member_grid(self.lo, self.hi, self.member_lo, self.member_hi) \
+            if self.K >= GRID_MIN_MEMBERS else None
 
     def __repr__(self):
         return f"Stack({self.K} x {self.shape.op}, {self.reduce})"
 
     def pairs(self, P):
-        """(point, member) pairs whose member box holds the point, sorted by point
-        (tested in blocks of points, so that a stack of thousands of members never
-        needs more than PAIR_BLOCK booleans at a time)."""
+        """(point, member) pairs whose member box holds the point, sorted by point and
+        then by member. A large batch of a stack of many members tests only the
+        members whose boxes meet the point's grid cell (:func:`_member_grid`); the
+        others test every box, in blocks of points, so that a stack of thousands of
+        members never needs more than PAIR_BLOCK booleans at a time."""
         n = P.shape[1]
+        if self.grid is not None and n * self.K >= GRID_MIN_PAIRS:
+            return self._grid_pairs(P)
         step = max(1, PAIR_BLOCK // self.K)
         pp, kk = [], []
         for a in range(0, n, step):
@@ -133,6 +142,53 @@ class Stack:
         if len(pp) == 1:
             return pp[0], kk[0]
         return (np.concatenate(pp), np.concatenate(kk)) if pp else (np.zeros(0, np.int64),) * 2
+
+    def _grid_pairs(self, P):
+        g = self.grid
+        n = P.shape[1]
+        flat = np.zeros(n, np.int64)
+        for k in range(3):
+            c = np.clip(np.floor((P[k] - g["lo"][k]) * g["inv"][k]), 0, g["dims"][k] - 1).astype(np.int64)
+            flat += c * g["stride"][k]
+        start = g["offsets"][flat]
+        counts = g["offsets"][flat + 1] - start
+        pp = np.repeat(np.arange(n), counts)
+        local = np.arange(len(pp)) - np.repeat(np.cumsum(counts) - counts - start, counts)
+        kk = g["items"][local]
+        inside = np.ones(len(pp), bool)
+        for k in range(3):
+            x = P[k].take(pp)
+            inside &= (x >= self.member_lo[kk, k]) & (x <= self.member_hi[kk, k])
+        return pp[inside], kk[inside]
+
+
+def _member_grid(lo, hi, member_lo, member_hi):
+    """A uniform grid over a stack's box, cells about a member box's median size (at
+    most GRID_MAX_DIM along an axis), listing in each cell the members whose boxes
+    meet it, in member order (CSR: offsets, items). A point's cell is found by the
+    same monotone floor as a box's corners (clamped into the grid), so every member
+    whose box holds the point is in its cell's list."""
+    ext = np.maximum(hi - lo, 0.0)
+    size = np.median(member_hi - member_lo, axis=0)
+    dims = np.ones(3, np.int64)
+    wide = ext > 0
+    dims[wide] = np.clip(np.ceil(ext[wide] / np.maximum(size[wide], ext[wide] / GRID_MAX_DIM)), 1, GRID_MAX_DIM)
+    inv = np.where(wide, dims / np.where(wide, ext, 1.0), 0.0)
+    a = np.clip(np.floor((member_lo - lo) * inv), 0, dims - 1).astype(np.int64)
+    b = np.clip(np.floor((member_hi - lo) * inv), 0, dims - 1).astype(np.int64)
+    stride = np.array([dims[1] * dims[2], dims[2], 1], np.int64)
+    cells, owners = [], []
+    for k in range(len(a)):
+        i, j, m = np.meshgrid(*(np.arange(a[k, d], b[k, d] + 1) for d in range(3)), indexing="ij")
+        cells.append((i * stride[0] + j * stride[1] + m).ravel())
+        owners.append(np.full(cells[-1].size, k, np.int64))
+    cells, owners = np.concatenate(cells), np.concatenate(owners)
+    order = np.lexsort((owners, cells))
+    total = int(np.prod(dims))
+    offsets = np.zeros(total + 1, np.int64)
+    offsets[1:] = np.cumsum(np.bincount(cells, minlength=total))
+    return {"lo": lo.astype(float), "inv": inv, "dims": dims, "stride": stride,
+            "offsets": offsets, "items": owners[order]}
 
 
 def stack_children(kids, reduce):

@@ -267,3 +267,28 @@ def test_a_stack_of_many_members_tests_its_boxes_in_blocks(monkeypatch):
     np.testing.assert_array_equal(blocked[0], whole[0])
     np.testing.assert_array_equal(blocked[1], whole[1])
     np.testing.assert_allclose(blocked[0], naive.field(P), rtol=0, atol=1e-12)
+
+
+def test_a_stack_of_many_members_finds_the_boxes_of_a_large_batch_in_a_grid(monkeypatch):
+    # the grid's candidates, tested against the boxes, are exactly the dense test's
+    # pairs in the same order (by point, then member), for points inside, outside and
+    # on the faces of the members' boxes
+    from blobtree_ink.model import stack as ST
+    kids = [_holed(3.0 * (i % 20), 3.0 * (i // 20)) for i in range(60)]
+    fast = ev_of({"type": "union", "children": kids})
+    stack = next(c for c in fast.plan.children if isinstance(c, ST.Stack))
+    assert stack.grid is not None and stack.grid["dims"].prod() > 1
+    rng = np.random.default_rng(3)
+    P = np.concatenate([rng.uniform(stack.lo - 1, stack.hi + 1, size=(3000, 3)), stack.member_lo, stack.member_hi,
+                        [stack.lo, stack.hi, stack.lo - 5]]).T.copy()
+    assert P.shape[1] * stack.K >= ST.GRID_MIN_PAIRS
+    pp, kk = stack.pairs(P)
+    monkeypatch.setattr(ST, "GRID_MIN_PAIRS", 1 << 62)          # every box on every point
+    dp, dk = stack.pairs(P)
+    np.testing.assert_array_equal(pp, dp)
+    np.testing.assert_array_equal(kk, dk)
+    on_face = np.arange(3000, 3000 + 2 * stack.K)
+    assert np.isin(on_face, pp).all() and len(pp) > 3000 * 0.2
+    # each member's two corners are in its own box
+    for k in range(stack.K):
+        assert k in kk[pp == 3000 + k] and k in kk[pp == 3000 + stack.K + k]
