@@ -213,3 +213,26 @@ def test_a_crease_step_newton_cannot_settle_is_retried_shorter_before_it_is_brac
     assert st.ok[0] and calls == [1]
     np.testing.assert_allclose([np.linalg.norm(st.X[0]), np.linalg.norm(st.X[0] - c1)], [r0, r1], atol=1e-9)
     assert st.X[0, 2] > 0.09
+
+
+def test_a_newton_update_solves_each_system_and_gives_up_on_singular_or_far_ones():
+    from blobtree_ink.agents.surface import newton_update
+    rng = np.random.default_rng(4)
+    m = 200
+    J = rng.normal(size=(m, 3, 3))
+    r = rng.normal(size=(m, 3))
+    J[3] = [[1.0, 0, 0], [2.0, 0, 0], [0, 0, 1.0]]             # rows 0 and 1 parallel: singular
+    J[4] = 1e-3 * np.eye(3)                                   # small but well conditioned: solved
+    r[5] = 0.0                                                # no step at all: converged
+    X, Q = np.zeros((m, 3)), np.zeros((m, 3))
+    ok = np.zeros(m, bool)
+    reach = np.full(m, 1e6)
+    reach[6] = 1e-3                                           # its step is cut to half the reach
+    live = newton_update(X, Q, np.arange(m), J, r, reach, 1e-12, ok)
+    exact = np.linalg.solve(np.where(np.arange(m)[:, None, None] == 3, np.eye(3), J), r[:, :, None])[:, :, 0]
+    solved = np.setdiff1d(np.arange(m), [3, 5, 6])
+    np.testing.assert_allclose(X[solved], exact[solved], rtol=1e-10, atol=1e-12 * np.abs(exact).max())
+    assert np.array_equal(X[3], np.zeros(3)) and 3 not in live and not ok[3]
+    assert ok[5] and 5 not in live
+    assert np.isclose(np.linalg.norm(X[6]), 0.5e-3) and np.allclose(X[6] / 0.5e-3, exact[6] / np.linalg.norm(exact[6]))
+    assert 6 in live and list(live) == sorted(set(range(m)) - {3, 5})
