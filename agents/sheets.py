@@ -13,6 +13,7 @@ cannot have a crease between them: the field is smooth there.
 import numpy as np
 
 from ..model.branches import NOT_REACHED
+from .asks import Ask, run
 from .surface import newton_update, unit
 
 NEWTON_ITERS = 8
@@ -27,10 +28,16 @@ def usable(surface):
 
 
 def record_ends(surface, A, B):
+    """:func:`record_ends_steps` run alone."""
+    return run(surface.ev, record_ends_steps(surface, A, B))[0]
+
+
+def record_ends_steps(surface, A, B):
     """The branch records at side points A and B: (m, 2, sites) int32, and whether each
-    pair chose differently at some site both reached (a crease may lie between)."""
+    pair chose differently at some site both reached (a crease may lie between). A
+    solver (agents.asks)."""
     m = len(A)
-    _, _, table = surface.ev.record(np.concatenate([A, B]))
+    _, _, table = yield Ask(np.concatenate([A, B]), record=True)
     pins = np.stack([table[:m], table[m:]], axis=1)
     return pins, apart(pins)
 
@@ -43,14 +50,19 @@ def apart(pins):
 
 
 def no_silhouette(surface, a, b, sa, sb, pins):
+    """:func:`no_silhouette_steps` run alone."""
+    return run(surface.ev, no_silhouette_steps(surface, a, b, sa, sb, pins))[0]
+
+
+def no_silhouette_steps(surface, a, b, sa, sb, pins):
     """Silhouette brackets a-b (n.v of signs sa at a, sb at b) whose ends lie on two
     sheets (``pins``): True where each sheet, continued to the other end, keeps its n.v
     sign there, so that neither turns away from the eye between the ends (the sign
     change is the crease's jump). A sheet without a gradient at the other end (beyond its
-    support) tells nothing: False."""
+    support) tells nothing: False. A solver (agents.asks)."""
     m = len(a)
     P = np.concatenate([b, a])                  # sheet A at b, sheet B at a
-    _, g = surface.ev.pinned(P, np.concatenate([pins[:, 0], pins[:, 1]]))
+    _, g = yield Ask(P, np.concatenate([pins[:, 0], pins[:, 1]]))
     nv = np.einsum("ij,ij->i", surface.normals(g), surface.view.towards_eye(P))
     seen = np.einsum("ij,ij->i", g, g) > 0
     keeps = seen & ((nv > 0) == np.concatenate([sa > 0, sb > 0]))
@@ -58,11 +70,17 @@ def no_silhouette(surface, a, b, sa, sb, pins):
 
 
 def crease_newton(surface, X0, Q, T, pins, reach, tol):
+    """:func:`crease_newton_steps` run alone."""
+    return run(surface.ev, crease_newton_steps(surface, X0, Q, T, pins, reach, tol))[0]
+
+
+def crease_newton_steps(surface, X0, Q, T, pins, reach, tol):
     """Crease points from X0 on the meeting of the sheets pinned by ``pins`` (m, 2,
     sites), in the planes through Q across T. Returns X, the two sheets' gradients
     there (side A, side B), the field's own gradient, and whether each converged (a
     step below ``tol``, within ``reach`` of Q, the sheets not tangent) onto the
-    surface itself (the sheets' meeting is a crease only where no third part covers it)."""
+    surface itself (the sheets' meeting is a crease only where no third part covers it).
+    A solver (agents.asks): a generator of its evaluations."""
     X = np.array(X0, float)
     m = len(X)
     reach = np.broadcast_to(np.asarray(reach, float), (m,))
@@ -75,7 +93,7 @@ def crease_newton(surface, X0, Q, T, pins, reach, tol):
             break
         x = X[live]
         k = len(live)
-        f, gr = surface.ev.pinned(np.concatenate([x, x]), np.concatenate([pins[live, 0], pins[live, 1]]))
+        f, gr = yield Ask(np.concatenate([x, x]), np.concatenate([pins[live, 0], pins[live, 1]]))
         ga, gb = gr[:k], gr[k:]
         gA[live], gB[live] = ga, gb
         Tl = T[live]
@@ -84,7 +102,7 @@ def crease_newton(surface, X0, Q, T, pins, reach, tol):
         live = newton_update(X, Q, live, J, r, reach, tol, ok)     # tangent sheets: singular
     rows = np.flatnonzero(ok)
     if len(rows):
-        f, g[rows] = surface.field_grad(X[rows])
+        f, g[rows] = yield Ask(X[rows])
         ok[rows] = np.abs(f - iso) <= 1e-9 * max(iso, 1.0)
     return X, gA, gB, g, ok
 

@@ -8,8 +8,9 @@ sign, where the mean curvature changes sign.
 """
 import numpy as np
 
-from ..model.curvature import curvature, field_grad_along
+from ..model.curvature import along_points, along_values, curvature
 from ..model.projection import newton
+from .asks import Ask, run
 
 SIL, CREASE, CURV = 0, 1, 2
 MARCH = 16                   # samples towards the anchor for a point on a flat field
@@ -101,6 +102,10 @@ class Surface:
         P[rows[has]], f[rows[has]], g[rows[has]] = Pn, fn, gn
 
     def silhouette_newton(self, Q, T, reach, tol, back=None):
+        """:meth:`silhouette_newton_steps` run alone."""
+        return run(self.ev, self.silhouette_newton_steps(Q, T, reach, tol, back))[0]
+
+    def silhouette_newton_steps(self, Q, T, reach, tol, back=None):
         """Silhouette points by Newton's method on {f = iso, grad f . v = 0, (x - Q) . T = 0}:
         on the surface, on the silhouette, in the plane through each predicted point Q
         across its tangent T (v: towards the eye, unnormalised for a perspective view).
@@ -113,7 +118,8 @@ class Surface:
         of the silhouette) or moving further than ``reach`` from Q (a seed's
         refinement bisects the others, a trace retries them shorter), and, given ``back`` (a point per row), the
         Hessian times (X - back) of the last iteration (a third point per point: the
-        gradient at ``back`` predicted from X is the gradient less that), else None."""
+        gradient at ``back`` predicted from X is the gradient less that), else None.
+        A solver (agents.asks): a generator of its evaluations."""
         X = np.array(Q, float)
         m = len(X)
         reach = np.broadcast_to(reach, (m,))
@@ -130,7 +136,8 @@ class Surface:
             else:
                 w = np.broadcast_to(-self.view.direction, x.shape)
             dirs = [w] if back is None else [w, x - back[live]]
-            f, g, hd = field_grad_along(self.ev, x, dirs)
+            batch, L, step = along_points(self.ev, x, dirs)
+            f, g, hd = along_values(*(yield Ask(batch)), L, step)
             G[live] = g
             if back is not None:
                 bend[live] = hd[1]

@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import sheets
+from .asks import run
 from .bisection import bisect, bisect_some
 from .surface import CREASE, SIL, WEDGE, crease_estimate, unit
 
@@ -94,46 +95,59 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     valid = np.zeros(m, bool)
     tangent = np.zeros((m, 3))
     by_newton = np.zeros(m, bool)
-    sil = np.flatnonzero((kinds == SIL) & ((sA > 0) != (sB > 0)))
-    if len(sil):
-        d = b[sil] - a[sil]
-        u = np.clip(sA[sil] / (sA[sil] - sB[sil]), 0.0, 1.0)[:, None]
-        Q = a[sil] + u * d
-        T = unit(np.cross(unit((1.0 - u) * na[sil] + u * nb[sil]), d))
+    use = sheets.usable(surface)
+    pins = np.full((m, 2, surface.ev.sites.count if use else 0), -2, np.int32)
+    sep = np.zeros(m, bool)
+    cross = (sA > 0) != (sB > 0)
+    sil = np.flatnonzero((kinds == SIL) & cross)
+    cr = np.flatnonzero((kinds == CREASE) & cross & use)
+
+    def silhouettes():
         # a converged point is on the surface with n.v = 0 where the field is smooth: a
         # silhouette point, within the bracket's length of it (across a crease, where n.v
         # jumps through zero, Newton finds none and the bisection rejects the bracket)
-        Xs, Gs, Ts, conv, _ = surface.silhouette_newton(Q, T, np.linalg.norm(d, axis=1), tol)
+        d = b[sil] - a[sil]
+        u = np.clip(sA[sil] / (sA[sil] - sB[sil]), 0.0, 1.0)[:, None]
+        T = unit(np.cross(unit((1.0 - u) * na[sil] + u * nb[sil]), d))
+        Xs, Gs, Ts, conv, _ = yield from surface.silhouette_newton_steps(a[sil] + u * d, T, np.linalg.norm(d, axis=1),
+                                                                         tol)
         got = sil[conv]
         X[got] = A[got] = B[got] = Xs[conv]
         gX[got] = Gs[conv]
         nA[got] = nB[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         valid[got] = by_newton[got] = True
-    use = sheets.usable(surface)
-    pins = np.full((m, 2, surface.ev.sites.count if use else 0), -2, np.int32)
-    cand = np.flatnonzero(((kinds == CREASE) | (kinds == SIL) & ~by_newton) & ((sA > 0) != (sB > 0)) & use)
-    sep = np.zeros(m, bool)
-    if len(cand):
-        pins[cand], sep[cand] = sheets.record_ends(surface, a[cand], b[cand])     # one batch
-    silx = np.flatnonzero((kinds == SIL) & sep & ~by_newton)
-    if len(silx):
-        # a silhouette bracket across a crease where neither sheet's n.v changes sign
-        # between the ends: the sign change is the crease's, no silhouette (not valid)
-        by_newton[silx[sheets.no_silhouette(surface, a[silx], b[silx], sA[silx], sB[silx], pins[silx])]] = True
-    cr = np.flatnonzero((kinds == CREASE) & ((sA > 0) != (sB > 0)) & use)
-    if len(cr):
+        rest = sil[~conv] if use else sil[:0]
+        if len(rest):
+            pins[rest], sep[rest] = yield from sheets.record_ends_steps(surface, a[rest], b[rest])
+            silx = rest[sep[rest]]
+            if len(silx):
+                # a silhouette bracket across a crease where neither sheet's n.v changes
+                # sign between the ends: the sign change is the crease's, no silhouette
+                # (not valid)
+                no = yield from sheets.no_silhouette_steps(surface, a[silx], b[silx], sA[silx], sB[silx], pins[silx])
+                by_newton[silx[no]] = True
+
+    def creases():
+        pins[cr], sep[cr] = yield from sheets.record_ends_steps(surface, a[cr], b[cr])
         by_newton[cr[~sep[cr]]] = True      # smooth between the ends: not valid
-        cr = cr[sep[cr]]
-        w = np.linalg.norm(b[cr] - a[cr], axis=1)
-        mid = 0.5 * (a[cr] + b[cr])
-        Tc = unit(np.cross(na[cr], nb[cr]))
-        X0 = crease_estimate(a[cr], b[cr], na[cr], nb[cr], mid)
-        Xc, gAc, gBc, gc, conv = sheets.crease_newton(surface, X0, mid, Tc, pins[cr], WEDGE * w, tol)
-        got = cr[conv]
+        c = cr[sep[cr]]
+        if len(c) == 0:
+            return
+        w = np.linalg.norm(b[c] - a[c], axis=1)
+        mid = 0.5 * (a[c] + b[c])
+        Tc = unit(np.cross(na[c], nb[c]))
+        X0 = crease_estimate(a[c], b[c], na[c], nb[c], mid)
+        Xc, gAc, gBc, gc, conv = yield from sheets.crease_newton_steps(surface, X0, mid, Tc, pins[c], WEDGE * w, tol)
+        got = c[conv]
         X[got], gX[got], A[got], B[got] = Xc[conv], gc[conv], a[got], b[got]
         nA[got], nB[got] = surface.normals(gAc[conv]), surface.normals(gBc[conv])
         valid[got] = by_newton[got] = True
+
+    # the silhouettes' chain (Newton, then the branch records and the sheets' n.v where
+    # it did not settle) beside the creases' (the records, then the sheets' Newton), on
+    # shared evaluations (agents.asks); they write disjoint rows
+    run(surface.ev, silhouettes() if len(sil) else None, creases() if len(cr) else None)
     # a crease bracket stops at sqrt(tol * its length): sheets curved no tighter than the
     # bracket is long then put the crossing from the tangent planes within tol
     finish = np.sqrt(tol * np.linalg.norm(b0 - a0, axis=1))
@@ -204,9 +218,20 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     newton = np.zeros(m, bool)                  # corrected by Newton (else bracketed)
     tangent = np.zeros((m, 3))                  # the next direction, where Newton gave one
     sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
+    cre = np.flatnonzero(kinds == CREASE)
+    if len(cre) and team is not None:
+        cre = cre[sheets.apart(pins[cre])]
+    else:
+        cre = cre[:0]
+    # the two correctors side by side, on shared evaluations (agents.asks)
+    Qc = P[cre] + h[cre, None] * T[cre]
+    by_sil, by_cre = run(
+        surface.ev,
+        surface.silhouette_newton_steps(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol, back=P[sil])
+        if len(sil) else None,
+        sheets.crease_newton_steps(surface, Qc, Qc, T[cre], pins[cre], 2.0 * h[cre], tol) if len(cre) else None)
     if len(sil):
-        Xs, Gs, Ts, conv, bend = surface.silhouette_newton(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil],
-                                                           tol, back=P[sil])
+        Xs, Gs, Ts, conv, bend = by_sil
         # the gradient at P predicted from X through the Hessian must match P's normal: a
         # step across a crease (a jump of the gradient) is refused (retried shorter, and
         # past the shortest step the silhouette ends at the crease)
@@ -217,14 +242,8 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         nA_out[got] = nB_out[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         found[got] = newton[got] = True
-    cre = np.flatnonzero(kinds == CREASE)
-    if len(cre) and team is not None:
-        cre = cre[sheets.apart(pins[cre])]
-    else:
-        cre = cre[:0]
     if len(cre):
-        Q = P[cre] + h[cre, None] * T[cre]
-        Xc, gA, gB, _, conv = sheets.crease_newton(surface, Q, Q, T[cre], pins[cre], 2.0 * h[cre], tol)
+        Xc, gA, gB, _, conv = by_cre
         got = cre[conv]
         nA, nB = surface.normals(gA[conv]), surface.normals(gB[conv])
         X[got], nA_out[got], nB_out[got] = Xc[conv], nA, nB

@@ -62,39 +62,45 @@ class Sites:
 
 
 class Ctx:
-    """The record (``pin`` False: choices are written) or the pins (True: read) of an
-    evaluation, for the points in hand: ``ids`` their rows of the table, ``off`` their
-    stack member inside a stack's shape (None outside)."""
-    __slots__ = ("sites", "table", "ids", "off", "pin")
+    """The choices of an evaluation for the points in hand: ``ids`` their rows of the
+    table, ``off`` their stack member inside a stack's shape (None outside). Each row's
+    choices are pinned where it has them (not NOT_REACHED); with ``write`` every choice
+    made is written into the table, so that a row of NOT_REACHED comes out as the
+    point's record."""
+    __slots__ = ("sites", "table", "ids", "off", "write")
 
-    def __init__(self, sites, table, ids, off=None, pin=False):
-        self.sites, self.table, self.ids, self.off, self.pin = sites, table, ids, off, pin
+    def __init__(self, sites, table, ids, off=None, write=False):
+        self.sites, self.table, self.ids, self.off, self.write = sites, table, ids, off, write
+
+    def at(self, ids):
+        return Ctx(self.sites, self.table, ids, write=self.write)
 
     def sub(self, idx):
-        return Ctx(self.sites, self.table, self.ids[idx], None if self.off is None else self.off[idx], self.pin)
+        return Ctx(self.sites, self.table, self.ids[idx], None if self.off is None else self.off[idx], self.write)
 
     def pairs(self, pp, kk):
         assert self.off is None, "a stack inside a stack's shape"
-        return Ctx(self.sites, self.table, self.ids[pp], kk, self.pin)
+        return Ctx(self.sites, self.table, self.ids[pp], kk, self.write)
 
     def decide(self, node, natural, part=0):
-        """Record the natural choices, or return them with the pinned ones put in."""
+        """The natural choices with the pinned ones put in (and written, with ``write``)."""
         first, per = self.sites.col[id(node)]
         cols = first + part * per
         if self.off is not None:
             cols = cols + self.off
-        if not self.pin:
-            self.table[self.ids, cols] = natural
-            return natural
         pinned = self.table[self.ids, cols]
-        return np.where(pinned == NOT_REACHED, natural, pinned)
+        chosen = np.where(pinned == NOT_REACHED, natural, pinned)
+        if self.write:
+            self.table[self.ids, cols] = chosen
+        return chosen
 
 
 def forced(ctx, node, natural, part=0):
-    """Record the natural choices at a site; with pins, the choices to evaluate instead
-    (None: they are the natural ones, whose values the caller already has)."""
+    """The choices at a site, natural ones recorded or pinned ones put in: the choices
+    to evaluate instead (None: they are the natural ones, whose values the caller
+    already has)."""
     w = ctx.decide(node, natural, part)
-    return w if ctx.pin and np.any(w != natural) else None
+    return w if np.any(w != natural) else None
 
 
 def child_choice(kids, n, need_grad, w):

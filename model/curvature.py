@@ -40,15 +40,30 @@ def field_grad_along(ev, P, dirs, h=None):
     differences of the analytic gradient along each direction, 1 + k points per point
     in one batch. A Newton step's Jacobian needs only H w, not all of H (whose forward
     differences take four points per point): the residuals stay exact, the Jacobian's
-    error is of the order of h |w|. Returns f (n,), g (n, 3) and Hd (k, n, 3)."""
+    error is of the order of h |w|. Returns f (n,), g (n, 3) and Hd (k, n, 3).
+    (:func:`along_points` and :func:`along_values` are its two halves, for a solver
+    that evaluates the batch itself.)"""
+    B, L, h = along_points(ev, P, dirs, h)
+    f, g = ev.field_grad(B)
+    return along_values(f, g, L, h)
+
+
+def along_points(ev, P, dirs, h=None):
+    """The batch :func:`field_grad_along` evaluates: the points, then each point a
+    step h along each direction; with the directions' lengths (k, n) and h."""
     P = as_points(P)
     h = HESSIAN_STEP * ev.scale if h is None else h
     D = np.asarray(dirs, float).reshape(-1, len(P), 3)
     L = np.linalg.norm(D, axis=2)                           # (k, n)
     U = D / np.maximum(L, 1e-300)[:, :, None]               # a zero direction stays zero
-    f, g = ev.field_grad(np.concatenate([P[None], P[None] + h * U]).reshape(-1, 3))
-    g = g.reshape(len(D) + 1, len(P), 3)
-    return f[:len(P)], g[0], (g[1:] - g[:1]) * (L / h)[:, :, None]
+    return np.concatenate([P[None], P[None] + h * U]).reshape(-1, 3), L, h
+
+
+def along_values(f, g, L, h):
+    """f, g and Hd from the field and gradient on :func:`along_points`' batch."""
+    k, n = L.shape
+    g = g.reshape(k + 1, n, 3)
+    return f[:n], g[0], (g[1:] - g[:1]) * (L / h)[:, :, None]
 
 
 def curvature(ev, P, grad=None):

@@ -71,7 +71,7 @@ class Evaluator:
         of the child every max/min chose (model.branches)."""
         P = as_points(P)
         table = np.full((len(P), self.sites.count), BR.NOT_REACHED, np.int32)
-        F, G = self._run(P, True, BR.Ctx(self.sites, table, None))
+        F, G = self.choose(P, table)
         return F, G, table
 
     def pinned(self, P, table):
@@ -82,7 +82,20 @@ class Evaluator:
         table = np.asarray(table, np.int32)
         if table.shape != (len(P), self.sites.count):
             raise ValueError(f"pins must be an ({len(P)}, {self.sites.count}) table, got {table.shape}")
-        return self._run(P, True, BR.Ctx(self.sites, table, None, pin=True))
+        return self._run(P, True, BR.Ctx(self.sites, table, None))
+
+    def choose(self, P, table):
+        """f and grad f with each point's row of ``table`` ((n, sites) int32) pinned
+        where it has a choice, and every choice made written into it (in place): a row
+        of NOT_REACHED comes out as the point's record, a pinned row as its pins with
+        the choices at the other sites it reached. Records and pinned points in one
+        evaluation (agents.asks)."""
+        P = as_points(P)
+        shape = (len(P), self.sites.count)
+        if not (isinstance(table, np.ndarray) and table.dtype == np.int32 and table.shape == shape):
+            raise ValueError(f"choices must be an ({len(P)}, {self.sites.count}) int32 array, got "
+                             f"{getattr(table, 'shape', type(table).__name__)}")
+        return self._run(P, True, BR.Ctx(self.sites, table, None, write=True))
 
     def _run(self, P, need_grad, ctx=None):
         P = as_points(P)
@@ -92,7 +105,7 @@ class Evaluator:
         G = np.empty((n, 3)) if need_grad else None
         for a in range(0, n, CHUNK):
             cols = np.ascontiguousarray(P[a:a + CHUNK].T)      # (3, n) layout inside
-            c = None if ctx is None else BR.Ctx(ctx.sites, ctx.table, np.arange(a, a + cols.shape[1]), pin=ctx.pin)
+            c = None if ctx is None else ctx.at(np.arange(a, a + cols.shape[1]))
             f, g = evaluate(self.plan, cols, need_grad, self.prune, self.stats, c)
             F[a:a + CHUNK] = f
             if need_grad:
@@ -222,7 +235,13 @@ def _stack(node, P, need_grad, stats, ctx=None):
         forced = BR.forced(ctx, node, w)
         if forced is not None:
             F, Gr = BR.pair_choice(n, pp, kk, f, g, forced)
-            return np.arange(n), F, Gr
+            # the stack covers the points it covers unpinned and those pinned to another
+            # choice (whatever other points of the batch are pinned to: a parent's
+            # choice where every child is 0 depends on which children cover the point)
+            cover = forced != w
+            cover[owners] = True
+            sub = np.flatnonzero(cover)
+            return sub, F[sub], (Gr[:, sub] if need_grad else None)
     F[zero] = 0.0
     if not need_grad:
         return owners, F, None
