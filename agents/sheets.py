@@ -77,14 +77,15 @@ def crease_newton(surface, X0, Q, T, pins, reach, tol):
 def crease_newton_steps(surface, X0, Q, T, pins, reach, tol):
     """Crease points from X0 on the meeting of the sheets pinned by ``pins`` (m, 2,
     sites), in the planes through Q across T. Returns X, the two sheets' gradients
-    there (side A, side B), the field's own gradient, and whether each converged (a
+    there (side A, side B), the field and its own gradient at X (where converged), and
+    whether each converged (a
     step below ``tol``, within ``reach`` of Q, the sheets not tangent) onto the
     surface itself (the sheets' meeting is a crease only where no third part covers it).
     A solver (agents.asks): a generator of its evaluations."""
     X = np.array(X0, float)
     m = len(X)
     reach = np.broadcast_to(np.asarray(reach, float), (m,))
-    gA, gB, g = np.zeros((m, 3)), np.zeros((m, 3)), np.zeros((m, 3))
+    gA, gB, F, g = np.zeros((m, 3)), np.zeros((m, 3)), np.zeros(m), np.zeros((m, 3))
     ok = np.zeros(m, bool)
     live = np.arange(m)
     iso = surface.iso
@@ -102,9 +103,9 @@ def crease_newton_steps(surface, X0, Q, T, pins, reach, tol):
         live = newton_update(X, Q, live, J, r, reach, tol, ok)     # tangent sheets: singular
     rows = np.flatnonzero(ok)
     if len(rows):
-        f, g[rows] = yield Ask(X[rows])
-        ok[rows] = np.abs(f - iso) <= 1e-9 * max(iso, 1.0)
-    return X, gA, gB, g, ok
+        F[rows], g[rows] = yield Ask(X[rows])
+        ok[rows] = np.abs(F[rows] - iso) <= 1e-9 * max(iso, 1.0)
+    return X, gA, gB, F, g, ok
 
 
 def side_points(X, nA, nB, W, eps):

@@ -112,19 +112,20 @@ class Surface:
         Each iteration is one batched evaluation of field and gradient at the points
         and a little along v (the Jacobian's row of grad f . v needs the Hessian times
         v alone: model.curvature.field_grad_along, two points per point). Returns X,
-        the gradient of its last iteration, the silhouette's tangent there (grad f x
-        grad(grad f . v), turned along T: the next step's direction), whether each point
-        converged (the last step below ``tol``) without a singular system (a cusp, a fold
-        of the silhouette) or moving further than ``reach`` from Q (a seed's
-        refinement bisects the others, a trace retries them shorter), and, given ``back`` (a point per row), the
-        Hessian times (X - back) of the last iteration (a third point per point: the
-        gradient at ``back`` predicted from X is the gradient less that), else None.
-        A solver (agents.asks): a generator of its evaluations."""
+        the field and gradient of the last evaluation, the silhouette's tangent there
+        (grad f x grad(grad f . v), turned along T: the next step's direction), whether
+        each point converged (the last step below ``tol``) without a singular system (a
+        cusp, a fold of the silhouette) or moving further than ``reach`` from Q (a seed's
+        refinement bisects the others, a trace retries them shorter), and, given
+        ``back`` (a point per row), the Hessian times (X - back) at the converged
+        points, else None: one more evaluation at each converged X and a little towards
+        back (the gradient at ``back`` predicted from X is the gradient less that), whose
+        field and gradient at X itself are then the ones returned (a trace step needs
+        them at its new point). A solver (agents.asks): a generator of its evaluations."""
         X = np.array(Q, float)
         m = len(X)
         reach = np.broadcast_to(reach, (m,))
-        G, Tout = np.zeros((m, 3)), np.array(T, float)
-        bend = None if back is None else np.zeros((m, 3))
+        F, G, Tout = np.zeros(m), np.zeros((m, 3)), np.array(T, float)
         ok = np.zeros(m, bool)
         live = np.arange(m)
         for _ in range(NEWTON_ITERS):
@@ -135,12 +136,9 @@ class Surface:
                 w = self.view.eye - x
             else:
                 w = np.broadcast_to(-self.view.direction, x.shape)
-            dirs = [w] if back is None else [w, x - back[live]]
-            batch, L, step = along_points(self.ev, x, dirs)
+            batch, L, step = along_points(self.ev, x, [w])
             f, g, hd = along_values(*(yield Ask(batch)), L, step)
-            G[live] = g
-            if back is not None:
-                bend[live] = hd[1]
+            F[live], G[live] = f, g
             ds = hd[0] - g if self.view.eye is not None else hd[0]
             Tl = T[live]
             tan = unit(np.cross(g, ds))
@@ -150,7 +148,15 @@ class Surface:
                            np.einsum("ij,ij->i", x - Q[live], Tl)], axis=1)
             # (near) singular: the silhouette turns along the view (a cusp), or the gradient vanishes
             live = newton_update(X, Q, live, J, r, reach, tol, ok)
-        return X, G, Tout, ok, bend
+        bend = None
+        if back is not None:
+            bend = np.zeros((m, 3))
+            done = np.flatnonzero(ok)
+            if len(done):
+                batch, L, step = along_points(self.ev, X[done], [X[done] - back[done]])
+                F[done], G[done], hd = along_values(*(yield Ask(batch)), L, step)
+                bend[done] = hd[0]
+        return X, F, G, Tout, ok, bend
 
     @staticmethod
     def normals(g):

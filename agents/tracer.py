@@ -109,8 +109,8 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
         d = b[sil] - a[sil]
         u = np.clip(sA[sil] / (sA[sil] - sB[sil]), 0.0, 1.0)[:, None]
         T = unit(np.cross(unit((1.0 - u) * na[sil] + u * nb[sil]), d))
-        Xs, Gs, Ts, conv, _ = yield from surface.silhouette_newton_steps(a[sil] + u * d, T, np.linalg.norm(d, axis=1),
-                                                                         tol)
+        Xs, _, Gs, Ts, conv, _ = yield from surface.silhouette_newton_steps(a[sil] + u * d, T,
+                                                                            np.linalg.norm(d, axis=1), tol)
         got = sil[conv]
         X[got] = A[got] = B[got] = Xs[conv]
         gX[got] = Gs[conv]
@@ -138,7 +138,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
         mid = 0.5 * (a[c] + b[c])
         Tc = unit(np.cross(na[c], nb[c]))
         X0 = crease_estimate(a[c], b[c], na[c], nb[c], mid)
-        Xc, gAc, gBc, gc, conv = yield from sheets.crease_newton_steps(surface, X0, mid, Tc, pins[c], WEDGE * w, tol)
+        Xc, gAc, gBc, _, gc, conv = yield from sheets.crease_newton_steps(surface, X0, mid, Tc, pins[c], WEDGE * w, tol)
         got = c[conv]
         X[got], gX[got], A[got], B[got] = Xc[conv], gc[conv], a[got], b[got]
         nA[got], nB[got] = surface.normals(gAc[conv]), surface.normals(gBc[conv])
@@ -217,6 +217,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     found = np.zeros(m, bool)
     newton = np.zeros(m, bool)                  # corrected by Newton (else bracketed)
     tangent = np.zeros((m, 3))                  # the next direction, where Newton gave one
+    fX, gX = np.zeros(m), np.zeros((m, 3))      # the field and gradient at X, where Newton gave them
     sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
     cre = np.flatnonzero(kinds == CREASE)
     if len(cre) and team is not None:
@@ -231,7 +232,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         if len(sil) else None,
         sheets.crease_newton_steps(surface, Qc, Qc, T[cre], pins[cre], 2.0 * h[cre], tol) if len(cre) else None)
     if len(sil):
-        Xs, Gs, Ts, conv, bend = by_sil
+        Xs, Fs, Gs, Ts, conv, bend = by_sil
         # the gradient at P predicted from X through the Hessian must match P's normal: a
         # step across a crease (a jump of the gradient) is refused (retried shorter, and
         # past the shortest step the silhouette ends at the crease)
@@ -239,14 +240,16 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         conv &= np.einsum("ij,ij->i", back, nP[sil]) > np.cos(SMOOTH * crease_angle)
         got = sil[conv]
         X[got] = A_out[got] = B_out[got] = Xs[conv]
+        fX[got], gX[got] = Fs[conv], Gs[conv]
         nA_out[got] = nB_out[got] = surface.normals(Gs[conv])
         tangent[got] = Ts[conv]
         found[got] = newton[got] = True
     if len(cre):
-        Xc, gA, gB, _, conv = by_cre
+        Xc, gA, gB, Fc, Gc, conv = by_cre
         got = cre[conv]
         nA, nB = surface.normals(gA[conv]), surface.normals(gB[conv])
         X[got], nA_out[got], nB_out[got] = Xc[conv], nA, nB
+        fX[got], gX[got] = Fc[conv], Gc[conv]
         A_out[got], B_out[got] = sheets.side_points(Xc[conv], nA, nB, team[1][got] - team[0][got], 0.05 * h[got])
         tc = unit(np.cross(nA, nB))
         tangent[got] = np.where(np.einsum("ij,ij->i", tc, T[got])[:, None] < 0, -tc, tc)
@@ -267,7 +270,9 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     lost = ~found
     X[lost] = P[lost]          # not moved: evaluated at a known surface point
     ok = found.copy()
-    fX, gX = surface.field_grad(X)
+    rest = np.flatnonzero(~newton)
+    if len(rest):
+        fX[rest], gX[rest] = surface.field_grad(X[rest])
     ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA_out, nB_out), -1, 1))
     jumped = ang > 0.5 * crease_angle

@@ -50,7 +50,7 @@ def test_newton_lands_on_the_exact_silhouette_circle_in_the_plane_across_the_tan
     on = centre + rad * (np.cos(a)[:, None] * u + np.sin(a)[:, None] * w)
     T = -np.sin(a)[:, None] * u + np.cos(a)[:, None] * w          # along the circle
     Q = on + 0.05 * T + 0.03 * axis                                 # a predictor off the circle
-    X, G, Tn, ok, bend = surf.silhouette_newton(Q, T, 0.2, 1e-10)
+    X, _, G, Tn, ok, bend = surf.silhouette_newton(Q, T, 0.2, 1e-10)
     assert ok.all()
     # the tangent handed on is the circle's at X, turned along T
     t = np.cross(axis, X - centre)
@@ -63,16 +63,16 @@ def test_newton_lands_on_the_exact_silhouette_circle_in_the_plane_across_the_tan
     assert np.abs(np.einsum("ij,ij->i", n, v)).max() < 1e-10
     np.testing.assert_allclose(np.einsum("ij,ij->i", X - Q, T), 0.0, atol=1e-12)
     # out of reach: the same points with a reach shorter than the distance to the circle
-    _, _, _, near, _ = surf.silhouette_newton(Q, T, 0.01, 1e-10)
+    _, _, _, _, near, _ = surf.silhouette_newton(Q, T, 0.01, 1e-10)
     assert not near.any()
 
 
 def test_newton_hands_back_the_hessian_times_the_step_from_a_point():
-    """With ``back``, the corrector returns H (X - back) of its last iteration (the
-    trace step predicts the gradient at its start from it): on the unit-radius point
+    """With ``back``, the corrector returns H (X - back) at each converged X (the trace
+    step predicts the gradient at its start from it): on the unit-radius point
     primitive f = (1 - |x|^2)^3, H = -6 [u^2 I - 4 u x x^T] with u = 1 - |x|^2, to
-    first order in the difference step, taken at the last evaluated point, which is X
-    to within the last Newton step."""
+    first order in the difference step; and the field and gradient at X itself (the
+    trace step's new point needs no evaluation of its own)."""
     eye = np.array([0.0, -5.0, 1.0])
     surf = sphere_surface(View(eye=tuple(eye)))
     centre, rad, axis, u, w = silhouette_circle(eye)
@@ -80,8 +80,10 @@ def test_newton_hands_back_the_hessian_times_the_step_from_a_point():
     on = centre + rad * (np.cos(a)[:, None] * u + np.sin(a)[:, None] * w)
     T = -np.sin(a)[:, None] * u + np.cos(a)[:, None] * w
     P = on - 0.05 * T                                               # where a step started
-    X, G, Tn, ok, bend = surf.silhouette_newton(on + 0.05 * T + 0.03 * axis, T, 0.2, 1e-10, back=P)
+    X, F, G, Tn, ok, bend = surf.silhouette_newton(on + 0.05 * T + 0.03 * axis, T, 0.2, 1e-10, back=P)
     assert ok.all()
+    f, g = surf.ev.field_grad(X)
+    assert np.array_equal(F, f) and np.array_equal(G, g)
     uu = 1 - np.einsum("ij,ij->i", X, X)
     D = X - P
     exact = -6 * (uu[:, None] ** 2 * D - 4 * uu[:, None] * X * np.einsum("ij,ij->i", X, D)[:, None])
@@ -89,7 +91,7 @@ def test_newton_hands_back_the_hessian_times_the_step_from_a_point():
     assert err < 1e-4 * np.abs(exact).max()
     assert err > 0                                                  # a difference, not the exact formula
     # without back there is none
-    assert surf.silhouette_newton(on + 0.05 * T, T, 0.2, 1e-10)[4] is None
+    assert surf.silhouette_newton(on + 0.05 * T, T, 0.2, 1e-10)[5] is None
 
 
 def test_an_orthographic_view_too():
@@ -97,7 +99,7 @@ def test_an_orthographic_view_too():
     a = np.linspace(0, 2 * math.pi, 12, endpoint=False)
     on = K * np.stack([np.cos(a), np.zeros_like(a), np.sin(a)], axis=1)
     T = np.stack([-np.sin(a), np.zeros_like(a), np.cos(a)], axis=1)
-    X, _, _, ok, _ = surf.silhouette_newton(on + 0.04 * T + [0, 0.05, 0], T, 0.2, 1e-10)
+    X, _, _, _, ok, _ = surf.silhouette_newton(on + 0.04 * T + [0, 0.05, 0], T, 0.2, 1e-10)
     assert ok.all()
     assert np.abs(X[:, 1]).max() < 1e-10                           # the great circle facing y
     np.testing.assert_allclose(np.linalg.norm(X, axis=1), K, atol=1e-12)
