@@ -37,26 +37,30 @@ def run(ev, *solvers):
     while asks:
         order = sorted(asks)
         items = [asks[i] for i in order]
-        sizes = [len(a.P) for a in items]
-        P = np.concatenate([a.P for a in items])
-        record = any(a.record for a in items)
-        table = None
-        if record or any(a.pins is not None for a in items):
-            table = np.concatenate([a.pins.astype(np.int32) if a.pins is not None else
-                                    np.full((len(a.P), ev.sites.count), NOT_REACHED, np.int32) for a in items])
-        if record:
-            f, g = ev.choose(P, table)
-        elif table is not None:
-            f, g = ev.pinned(P, table)
-        else:
-            f, g = ev.field_grad(P)
-        at = np.cumsum([0] + sizes)
+        f, g, table = _evaluate(ev, items)
+        at = np.cumsum([0] + [len(a.P) for a in items])
         asks = {}
         for k, i in enumerate(order):
             part = slice(at[k], at[k + 1])
             reply = (f[part], g[part], table[part]) if items[k].record else (f[part], g[part])
             _advance(solvers[i], i, reply, asks, out)
     return out
+
+
+def _evaluate(ev, items):
+    """One evaluation of the asks ``items``, their points in order: f, g and the
+    choices (None where no ask has pins or wants records)."""
+    P = items[0].P if len(items) == 1 else np.concatenate([a.P for a in items])
+    record = any(a.record for a in items)
+    if not record and not any(a.pins is not None for a in items):
+        return (*ev.field_grad(P), None)
+    if len(items) == 1 and not record:
+        return (*ev.pinned(P, items[0].pins), None)           # read only: no copy
+    table = np.concatenate([a.pins.astype(np.int32) if a.pins is not None else
+                            np.full((len(a.P), ev.sites.count), NOT_REACHED, np.int32) for a in items])
+    if record:
+        return (*ev.choose(P, table), table)
+    return (*ev.pinned(P, table), None)
 
 
 def _advance(solver, i, reply, asks, out):
