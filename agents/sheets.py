@@ -49,11 +49,6 @@ def apart(pins):
     return np.any((a != b) & (a != NOT_REACHED) & (b != NOT_REACHED), axis=1)
 
 
-def no_silhouette(surface, a, b, sa, sb, pins):
-    """:func:`no_silhouette_steps` run alone."""
-    return run(surface.ev, no_silhouette_steps(surface, a, b, sa, sb, pins))[0]
-
-
 def no_silhouette_steps(surface, a, b, sa, sb, pins):
     """Silhouette brackets a-b (n.v of signs sa at a, sb at b) whose ends lie on two
     sheets (``pins``): True where each sheet, continued to the other end, keeps its n.v
@@ -69,19 +64,13 @@ def no_silhouette_steps(surface, a, b, sa, sb, pins):
     return keeps[:m] & keeps[m:]
 
 
-def crease_newton(surface, X0, Q, T, pins, reach, tol):
-    """:func:`crease_newton_steps` run alone."""
-    return run(surface.ev, crease_newton_steps(surface, X0, Q, T, pins, reach, tol))[0]
-
-
 def crease_newton_steps(surface, X0, Q, T, pins, reach, tol):
     """Crease points from X0 on the meeting of the sheets pinned by ``pins`` (m, 2,
     sites), in the planes through Q across T. Returns X, the two sheets' gradients
     there (side A, side B), the field and its own gradient at X (where converged), and
-    whether each converged (a
-    step below ``tol``, within ``reach`` of Q, the sheets not tangent) onto the
-    surface itself (the sheets' meeting is a crease only where no third part covers it).
-    A solver (agents.asks): a generator of its evaluations."""
+    whether each converged (a step below ``tol``, within ``reach`` of Q, the sheets not
+    tangent) onto the surface itself (the sheets' meeting is a crease only where no
+    third part covers it). A solver (agents.asks): a generator of its evaluations."""
     X = np.array(X0, float)
     m = len(X)
     reach = np.broadcast_to(np.asarray(reach, float), (m,))

@@ -83,13 +83,19 @@ def grid_pairs(g, P):
         ok &= (c >= 0) & (c < dims[k])
         flat += c * g["stride"][k]
     flat[~ok] = g["empty"]
-    start = g["offsets"][flat]
-    counts = g["offsets"][flat + 1] - start
-    total = int(counts.sum())
-    pp = np.repeat(np.arange(n), counts)
+    return cell_lists(g["offsets"], g["items"], flat)
+
+
+def cell_lists(offsets, items, flat):
+    """Every point's cell list of a CSR grid (cell c lists items[offsets[c]:offsets[c+1]]),
+    point i in cell flat[i]: the point index and item of each pair, sorted by point and
+    in list order within a point, and the number of pairs of each point."""
+    start = offsets[flat]
+    counts = offsets[flat + 1] - start
+    pp = np.repeat(np.arange(len(flat)), counts)
     # position of each pair inside its cell's list
-    local = np.arange(total) - np.repeat(np.cumsum(counts) - counts - start, counts)
-    return pp, g["items"][local], counts
+    local = np.arange(len(pp)) - np.repeat(np.cumsum(counts) - counts - start, counts)
+    return pp, items[local], counts
 
 
 def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx=None, node=None):

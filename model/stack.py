@@ -19,9 +19,11 @@ from .groups import Group
 
 STACK_MIN = 3                 # fewer identical subtrees are left as they are
 PAIR_BLOCK = 1 << 22          # booleans per block of the (point, member) box test
-GRID_MIN_MEMBERS = 8          # stacks of this many members look their boxes up in a grid ...
-GRID_MIN_PAIRS = 1 << 13      # ... for batches of at least this many (point, member) tests (the
-                              # train's 26 wheels: 5000 cost the same either way, 40000 3.5x less)
+# stacks of GRID_MIN_MEMBERS or more look their boxes up in a grid for batches of at least
+# GRID_MIN_PAIRS (point, member) tests (the train's 26 wheels: 5000 cost the same either
+# way, 40000 3.5x less)
+GRID_MIN_MEMBERS = 8
+GRID_MIN_PAIRS = 1 << 13
 GRID_MAX_DIM = 64             # cells of that grid along an axis, at most
 # subtrees that would evaluate more primitives than this on each point keep their own
 # spatial pruning (a stack evaluates every position of a member on each of its points:
@@ -151,11 +153,7 @@ class Stack:
         for k in range(3):
             c = np.clip(np.floor((P[k] - g["lo"][k]) * g["inv"][k]), 0, g["dims"][k] - 1).astype(np.int64)
             flat += c * g["stride"][k]
-        start = g["offsets"][flat]
-        counts = g["offsets"][flat + 1] - start
-        pp = np.repeat(np.arange(n), counts)
-        local = np.arange(len(pp)) - np.repeat(np.cumsum(counts) - counts - start, counts)
-        kk = g["items"][local]
+        pp, kk, _ = G.cell_lists(g["offsets"], g["items"], flat)
         inside = np.ones(len(pp), bool)
         for k in range(3):
             x = P[k].take(pp)
