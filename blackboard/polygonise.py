@@ -135,9 +135,10 @@ def polygonise(ev, res, bounds=None, project_steps=6):
     return mesh_from_grid(ev, grid, project_steps)
 
 
-def refine_crossings(ev, A, B, fA, fB, iters=12):
+def refine_crossings(ev, A, B, fA, fB, iters=12, ftol=0.0):
     """Points where f = iso on the segments A-B (fA, fB on opposite sides of iso), by
-    regula falsi with the Illinois rule, batched (field values only). A compact kernel
+    regula falsi with the Illinois rule, batched (field values only), each until its
+    bracket is below 1e-9 of the segment or |f - iso| at most ``ftol``. A compact kernel
     is far from linear across a cell: linear interpolation alone can put a crossing
     outside the support or on the flat core of a primitive (f = 0 or 1, no gradient)."""
     iso = ev.iso
@@ -159,7 +160,7 @@ def refine_crossings(ev, A, B, fA, fB, iters=12):
         b[ia[last[ia] == 1]] *= 0.5
         a[ib[last[ib] == 2]] *= 0.5
         last[ia], last[ib] = 1, 2
-        done = (fm == 0) | (hi_t[live] - lo_t[live] < 1e-9)
+        done = (np.abs(fm) <= ftol) | (hi_t[live] - lo_t[live] < 1e-9)
         live = live[~done]
         if len(live):
             t[live] = lo_t[live] + a[live] / (a[live] - b[live]) * (hi_t[live] - lo_t[live])

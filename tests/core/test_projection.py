@@ -172,3 +172,36 @@ def test_a_flat_point_marches_towards_the_projection_of_its_anchor_row():
     assert abs(np.linalg.norm(X[1]) - D_ISO) < 1e-12 and abs(f[1] - 0.5) <= tolerance(0.5)
     np.testing.assert_array_equal(X[2], P[2])              # flat, no anchor: it stays
     assert f[2] == 0 and not g[2].any()
+
+
+def test_a_crossing_stops_once_its_field_is_within_ftol():
+    """refine_crossings: every crossing of the sphere along random segments ends with
+    |f - iso| within ftol (or its bracket below 1e-9 of the segment: then on the sphere
+    to that), evaluated no more after it got there; ftol = 0 runs each to the bracket."""
+    ev = M.Evaluator(model_of(SPHERE))
+    rng = np.random.default_rng(5)
+    d = rng.normal(size=(300, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    A, B = d * rng.uniform(0.05, 0.42, (300, 1)), d * rng.uniform(0.48, 0.99, (300, 1))
+    fA, fB = ev.field(A), ev.field(B)
+    assert np.all(fA > 0.5) and np.all(fB < 0.5)
+    for ftol in (0.0, 1e-6, 1e-11):
+        counting = CountingEvaluator(ev)
+        sizes = []
+
+        def field(P, sizes=sizes):
+            sizes.append(len(P))
+            return ev.field(P)
+        counting.field = field
+        X = PG.refine_crossings(counting, A, B, fA.copy(), fB.copy(), ftol=ftol)
+        err = np.abs(ev.field(X) - 0.5)
+        # on the segment, and on the sphere to ftol or to the bracket's width
+        np.testing.assert_allclose(np.cross(X, d), 0, atol=1e-15)
+        assert np.all((err <= ftol) | (np.abs(np.linalg.norm(X, axis=1) - D_ISO) < 1e-9))
+        if ftol == 1e-6:
+            assert err.max() <= 1e-6 and err.max() > 1e-10      # stopped there, not run on
+        evaluated = sum(sizes)
+        if ftol == 0.0:
+            full = evaluated
+        else:
+            assert evaluated < full
