@@ -259,7 +259,7 @@ def _shape(t, P, kk, need_grad, stats, ctx=None):
             return G.evaluate_pairs(t.prm, t.reduce, t.n, P, kk, None, v, need_grad, stats)
         pp, idx, counts = t.pairs(P, kk)
         return G.evaluate_pairs(t.prm, t.reduce, t.n, P.take(pp, axis=1), idx, pp, v, need_grad, stats,
-                                ctx, t)
+                                ctx, t, t.m if t.dense(v) else None)
     kids = [(None, *_shape(c, P, kk, need_grad, stats, ctx)) for c in t.children]
     return _combine(t, kids, v, need_grad, ctx)
 

@@ -49,15 +49,18 @@ class Group:
             self._grid = _build_grid(self.prm, self.member_lo, self.member_hi)
         return self._grid
 
+    def dense(self, n):
+        """Whether a batch of n points pairs with every member (no grid lookup)."""
+        return self.grid is None or n * self.m <= SMALL_DENSE
+
     def pairs(self, P):
         """Candidate pairs for P (3, n): point index and member index of each pair,
         sorted by point, and the number of pairs of each point."""
         n = P.shape[1]
-        if self.grid is None or n * self.m <= SMALL_DENSE:
+        if self.dense(n):
             if self.m == 1:
                 return None, None, None
-            pp = np.repeat(np.arange(n), self.m)
-            pi = np.tile(np.arange(self.m), n)
+            pp, pi = np.divmod(np.arange(n * self.m), self.m)      # every member, point by point
             return pp, pi, np.full(n, self.m)
         return grid_pairs(self.grid, P)
 
@@ -66,7 +69,9 @@ class Group:
         # pairs beyond a primitive's radius just give 0 (no compaction pass); columns
         # are gathered with take (indexing P[:, pp] is several times slower)
         Q = P if pi is None else P.take(pp, axis=1)
-        return evaluate_pairs(self.prm, self.reduce, self.n, Q, pi, pp, P.shape[1], need_grad, stats, ctx, self)
+        dense = self.m if pi is not None and self.dense(P.shape[1]) else None
+        return evaluate_pairs(self.prm, self.reduce, self.n, Q, pi, pp, P.shape[1], need_grad, stats, ctx, self,
+                              dense)
 
 
 def grid_pairs(g, P):
@@ -98,11 +103,13 @@ def cell_lists(offsets, items, flat):
     return pp, items[local], counts
 
 
-def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx=None, node=None):
+def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx=None, node=None, dense=None):
     """The kernels of (point, member) pairs reduced per point: Q (3, pairs) holds each
     pair's point, idx its member (None: the group's only member), pp its point among n
     (sorted; None: one pair per point, nothing to reduce). ``ctx``: a branch record or
-    pins (model.branches) for a union's choice of member, at site ``node``."""
+    pins (model.branches) for a union's choice of member, at site ``node``. ``dense``
+    (a count m): the pairs are every point's m members in order, n * m of them (a max
+    then reduces rows of an (n, m) array)."""
     if stats is not None:
         stats.pairs += Q.shape[1]
     d2, V = PR.dist2(Q, prm, idx)
@@ -113,12 +120,12 @@ def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx
         from .branches import ZERO, forced, pair_choice
         w = np.full(n, ZERO, np.int64)
         if len(pp):
-            owners, seg_max, win = segment_max(pp, f)
+            owners, seg_max, win = segment_max(pp, f, dense=dense)
             w[owners] = np.where(seg_max > 0, idx[win], ZERO)
         pinned = forced(ctx, node, w)
         if pinned is not None:
             return pair_choice(n, pp, idx, f, g, pinned)
-    return _reduce(reduce, n_exp, n, pp, f, g)
+    return _reduce(reduce, n_exp, n, pp, f, g, dense)
 
 
 def _single(f, g, reduce):
@@ -133,9 +140,15 @@ def _bincount(pp, w, n):
     return np.bincount(pp, weights=w, minlength=n).astype(np.float64, copy=False)
 
 
-def segment_max(pp, f, winners=True):
+def segment_max(pp, f, winners=True, dense=None):
     """Per point of pairs sorted by point (pp, non-empty): the point, the largest f of
-    its pairs and (``winners``) the first pair that attains it, as argmax would."""
+    its pairs and (``winners``) the first pair that attains it, as argmax would.
+    ``dense`` (m): every point has m pairs (rows of an (n, m) array)."""
+    if dense is not None:
+        rows = f.reshape(-1, dense)
+        j = rows.argmax(axis=1)
+        first = np.arange(0, len(f), dense)
+        return pp.take(first), rows[np.arange(len(rows)), j], (first + j if winners else None)
     change = np.empty(len(pp), bool)
     change[0] = True
     np.not_equal(pp[1:], pp[:-1], out=change[1:])
@@ -152,7 +165,7 @@ def segment_max(pp, f, winners=True):
     return pp[starts], seg_max, win
 
 
-def _reduce(reduce, n_exp, n, pp, f, g):
+def _reduce(reduce, n_exp, n, pp, f, g, dense=None):
     if reduce == "sum":
         F = _bincount(pp, f, n)
         if g is None:
@@ -163,7 +176,7 @@ def _reduce(reduce, n_exp, n, pp, f, g):
         G = np.zeros((3, n)) if g is not None else None
         if len(pp) == 0:
             return F, G
-        owners, seg_max, win = segment_max(pp, f, g is not None)
+        owners, seg_max, win = segment_max(pp, f, g is not None, dense)
         F[owners] = np.maximum(seg_max, 0.0)
         if g is not None:
             G[:, owners] = np.where(f[win] > 0, g.take(win, axis=1), 0.0)

@@ -74,15 +74,19 @@ class StackedGroup:
             self._grid = G._build_grid(self.prm, *PR.support_bounds(self.prm))
         return self._grid
 
+    def dense(self, v):
+        """Whether v pair points pair with every primitive of their member (no grid)."""
+        return self.grid is None or v * self.m <= G.SMALL_DENSE
+
     def pairs(self, P, kk):
         """(pair, primitive) pairs for pair points P (3, v), pair j standing for member
         kk[j]: the member's primitives, sorted by pair and then by primitive (global
         rows); with a grid, only those whose support can reach the point. Returns the
         pair index and primitive row of each, and the count of each pair's."""
         v = P.shape[1]
-        if self.grid is None or v * self.m <= G.SMALL_DENSE:
-            pp = np.repeat(np.arange(v), self.m)
-            return pp, (kk * self.m)[pp] + np.tile(np.arange(self.m), v), np.full(v, self.m)
+        if self.dense(v):
+            pp, pi = np.divmod(np.arange(v * self.m), self.m)
+            return pp, kk.take(pp) * self.m + pi, np.full(v, self.m)
         pp, pi, _ = G.grid_pairs(self.grid, P)
         mine = pi // self.m == kk[pp]               # other members' primitives in the cell
         pp, pi = pp[mine], pi[mine]
