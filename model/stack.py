@@ -135,15 +135,11 @@ class Stack:
         n = P.shape[1]
         if self.grid is not None and n * self.K >= GRID_MIN_PAIRS:
             return self._grid_pairs(P)
-        step = max(1, PAIR_BLOCK // self.K)
+        step = max(1, PAIR_BLOCK // (3 * self.K))
         pp, kk = [], []
         for a in range(0, n, step):
-            Q = P[:, a:a + step]
-            inside = np.ones((Q.shape[1], self.K), bool)
-            for k in range(3):
-                x = Q[k][:, None]
-                inside &= (x >= self.member_lo[None, :, k]) & (x <= self.member_hi[None, :, k])
-            i, j = np.nonzero(inside)
+            X = P[:, a:a + step].T[:, None, :]                   # (points, 1, 3) against (K, 3) boxes
+            i, j = np.nonzero(((X >= self.member_lo) & (X <= self.member_hi)).all(axis=2))
             pp.append(i + a)
             kk.append(j)
         if len(pp) == 1:
