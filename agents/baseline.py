@@ -14,6 +14,7 @@ from numpy.random import default_rng    # numpy imports it lazily: here, not in 
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from ..model import Evaluator
+from ..model.tolerances import OUTLINE, on_surface
 from .outline import Outline
 from .stitch import stitch
 from .surface import Surface
@@ -35,7 +36,7 @@ class Baseline:
         area_guess = np.linalg.norm(hi - lo) ** 2
         self.sigma = 0.5 * np.sqrt(area_guess / max(len(self.P), 1))
         self.step_len = step if step is not None else 0.3 * self.sigma
-        self.tol = 1e-8 * self.ev.scale
+        self.tol = OUTLINE * self.ev.scale
         self.iteration = 0
         self.deadline = None
         self.found = []
@@ -71,7 +72,7 @@ class Baseline:
             ok = ~np.isnan(t_hit)
             P = O[ok] + t_hit[ok, None] * D[ok]
             P, f, g = self.surface.project(P)
-            good = np.abs(f - self.ev.iso) < 1e-9
+            good = on_surface(f, self.ev.iso)
             hits.append(P[good])
         return np.concatenate(hits)[:n] if hits else np.zeros((0, 3))
 

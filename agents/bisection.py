@@ -5,11 +5,13 @@ projected onto the surface; batched over all brackets, pausable (MASSRIS agents 
 once per system iteration)."""
 import numpy as np
 
-from ..model.projection import tolerance
+from ..model.tolerances import CONVERGED, TRIAL, on_surface
 from .surface import CREASE, CURV, WEDGE, crease_estimate, unit
 
 CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bracket off the estimate
 WIDE_NUDGE = 0.25            # ... and this much after an estimate that left the bracket above 0.7
+ZERO_SIGN = 1e-11            # a smooth crossing's signed quantity (n.v, or the mean curvature times the
+                             # model's size) vanishes below this
 PROGRESS_EVERY = 6           # bisection iterations within which a bracket must shrink to a quarter
 
 
@@ -34,7 +36,7 @@ def bisect_some(surface, kinds, A, B, ref, tol, iters=60, crease_angle=None, anc
     estimate was off by more than the small nudge; the midpoint it replaced could
     widen a bracket across a sharp wedge). Trial points take two Newton steps towards
     the surface; a crease trial point whose projection does not settle near it (within
-    1e-8) moves no end. Returns the crossing (the
+    model.tolerances.TRIAL) moves no end. Returns the crossing (the
     final bracket end on the first end's side, on the surface to rounding), its
     gradient, the final bracket ends and their normals, and whether each bracket
     held a sign change. With ``crease_angle``, a crease bracket whose end normals
@@ -158,13 +160,13 @@ def bisect_some(surface, kinds, A, B, ref, tol, iters=60, crease_angle=None, anc
         sM = surface.signs(kinds[rows], M, gM, ref[rows])
         # a crease trial point whose projection did not settle near the surface (near
         # a sharp wedge's edge Newton can stall between the sheets) moves no end
-        on = np.abs(fM - surface.iso) <= 1e-8 * max(surface.iso, 1.0)
-        exact = np.abs(fM - surface.iso) <= tolerance(surface.iso)
+        on = on_surface(fM, surface.iso, TRIAL)
+        exact = on_surface(fM, surface.iso, CONVERGED)
         M2, gM2, sM2, rows2, on2, exact2 = M[m:], gM[m:], sM[m:], rows[m:], on[m:], exact[m:]
         M, gM, sM, on, exact = M[:m], gM[:m], sM[:m], on[:m], exact[:m]
-        # a smooth crossing is found when its signed quantity vanishes (to 1e-11;
+        # a smooth crossing is found when its signed quantity vanishes (ZERO_SIGN;
         # n.v is a cosine, mean curvature is scaled by the model's size)
-        hit = ~jump[live] & (np.abs(sM) * np.where(kinds[live] == CURV, surface.scale, 1.0) < 1e-11)
+        hit = ~jump[live] & (np.abs(sM) * np.where(kinds[live] == CURV, surface.scale, 1.0) < ZERO_SIGN)
         if hit.any():
             ih = live[hit]
             A[ih], gA[ih], B[ih], gB[ih] = M[hit], gM[hit], M[hit], gM[hit]
@@ -234,6 +236,6 @@ def _finish_creases(surface, rows, A, gA, B, gB, tol, X, gX):
     E, ok = crease_estimate(A[rows], B[rows], surface.normals(gA[rows]), surface.normals(gB[rows]), mid, planes=True)
     P, f, g = surface.project(E.copy(), steps=4, max_step=float(w.max()))
     ok &= (np.linalg.norm(P - E, axis=1) <= w) & (np.linalg.norm(P - mid, axis=1) <= WEDGE * w)
-    ok &= np.abs(f - surface.iso) <= 1e-12 * max(surface.iso, 1.0)
+    ok &= on_surface(f, surface.iso)
     X[rows[ok]], gX[rows[ok]] = P[ok], g[ok]
     return rows[~ok]

@@ -14,6 +14,7 @@ from ..blackboard.polygonise import thin_parts
 from ..blackboard.subdivide import fine_features
 from ..model.csg import subtracted_centres
 from ..model.curvature import curvature
+from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..strokes import steering as st
 from .columns import Columns
 
@@ -83,7 +84,7 @@ def corner_features(session, rows=None):
     P, f, g = s.surface.project(np.concatenate([C.mean(axis=1), C.reshape(-1, 3)[first]]),
                                 anchor_rows=np.concatenate([np.full(k, -1), first // 8]))
     P, f, g = P[k:][inv.ravel()], f[k:][inv.ravel()], g[k:][inv.ravel()]
-    on = (np.all(np.isfinite(P), axis=1) & (np.abs(f - s.ev.iso) <= 1e-6 * max(1.0, s.ev.iso))).reshape(-1, 8)
+    on = (np.all(np.isfinite(P), axis=1) & on_surface(f, s.ev.iso, NEAR_SURFACE)).reshape(-1, 8)
     n = s.surface.normals(g).reshape(-1, 8, 3)
     P = P.reshape(-1, 8, 3)
     a, b = _PAIRS[:, 0], _PAIRS[:, 1]
@@ -171,7 +172,7 @@ def subtracted_walls(session, model):
         return none
     j = np.argmax(flip[ci, di], axis=-1)
     P, fp, _ = s.surface.project(R[ci, di, j + 1].copy(), anchor=R[ci, di, j])
-    on = np.abs(fp - s.ev.iso) <= 1e-9 * max(1.0, s.ev.iso)
+    on = on_surface(fp, s.ev.iso)
     return P[on], C[ci[on]]
 
 
@@ -241,7 +242,7 @@ def start(session, rows):
         if r in s.explore_from:            # a probe point on a sheet the polygonisation missed
             centres[i] = s.explore_from[r]
     P, f, g = s.surface.project(centres.copy())
-    ok = np.all(np.isfinite(P), axis=1) & (np.abs(f - s.ev.iso) <= 1e-6 * max(1.0, s.ev.iso))
+    ok = np.all(np.isfinite(P), axis=1) & on_surface(f, s.ev.iso, NEAR_SURFACE)
     if not ok.any():
         return
     P, g, centres = P[ok], g[ok], centres[ok]

@@ -26,6 +26,7 @@ from ..blackboard.edges import process_edges
 from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature
+from ..model.tolerances import OUTLINE
 from . import explore, manager, sheets
 from . import traces as trace_tasks
 from .beside import seeds_beside_silhouettes
@@ -44,7 +45,7 @@ class Settings:
     agents: int = 10000                # agents stepped together; more agents, fewer (larger) iterations
     lod: float = 0.5                   # user level of detail, 0..1
     step: float = 0.3                  # trace step, in voxel sizes
-    tolerance: float = 1e-8            # outline location, as a fraction of the model's size
+    tolerance: float = OUTLINE         # outline location, as a fraction of the model's size
     crease_angle: float = float(np.radians(35.0))
     kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines
     explore_steps: int = 16

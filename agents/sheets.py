@@ -13,6 +13,7 @@ cannot have a crease between them: the field is smooth there.
 import numpy as np
 
 from ..model.branches import NOT_REACHED
+from ..model.tolerances import on_surface
 from .asks import Ask, run
 from .surface import newton_update, unit
 
@@ -93,7 +94,7 @@ def crease_newton_steps(surface, X0, Q, T, pins, reach, tol):
     rows = np.flatnonzero(ok)
     if len(rows):
         F[rows], g[rows] = yield Ask(X[rows])
-        ok[rows] = np.abs(F[rows] - iso) <= 1e-9 * max(iso, 1.0)
+        ok[rows] = on_surface(F[rows], iso)
     return X, gA, gB, F, g, ok
 
 

@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..model.tolerances import on_surface
 from . import sheets
 from .asks import run
 from .bisection import bisect, bisect_some
@@ -183,7 +184,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     bad = ~np.all(np.isfinite(tangent), axis=1) | (np.linalg.norm(tangent, axis=1) < 0.5)
     valid &= ~bad
     fX, _ = surface.field_grad(X)
-    valid &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)
+    valid &= on_surface(fX, surface.iso)
     return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
@@ -273,7 +274,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     rest = np.flatnonzero(~newton)
     if len(rest):
         fX[rest], gX[rest] = surface.field_grad(X[rest])
-    ok &= np.abs(fX - surface.iso) <= 1e-9 * max(surface.iso, 1.0)     # on the surface, or lost
+    ok &= on_surface(fX, surface.iso)     # on the surface, or lost
     ang = np.arccos(np.clip(np.einsum("ij,ij->i", nA_out, nB_out), -1, 1))
     jumped = ang > 0.5 * crease_angle
     ok &= np.where(kinds == CREASE, jumped, ~jumped)   # a silhouette ends where it meets a crease

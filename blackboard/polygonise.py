@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.projection import newton
+from ..model.tolerances import NEAR_SURFACE, on_surface
 from .keys import unique_rows
 
 MIN_RES, MAX_RES = 2, 512
@@ -251,7 +252,7 @@ def mesh_from_grid(ev, grid, project_steps=6):
         # primitive (no gradient to follow) and stay off the surface: such a cell takes
         # one of its own (refined, on-surface) crossings instead
         fv, gv = ev.field_grad(verts)
-        bad = (np.abs(fv - iso) > 1e-6 * max(1.0, abs(iso))) | ~(np.einsum("ij,ij->i", gv, gv) > 0)
+        bad = ~on_surface(fv, iso, NEAR_SURFACE) | ~(np.einsum("ij,ij->i", gv, gv) > 0)
         if bad.any():
             verts[bad] = project(ev, cell_any[bad], steps=project_steps, max_step=h.max())
     return Mesh(vertices=verts, quads=quads, cells=cells, grid=grid)
@@ -337,7 +338,7 @@ def thin_parts(ev, mesh, max_probes=200000):
                          np.concatenate([fm, fe1]))
     X = project(ev, X, steps=6, max_step=h.max())
     fx, gx = ev.field_grad(X)
-    ok = (np.abs(fx - iso) <= 1e-9 * max(1.0, abs(iso))) & (np.einsum("ij,ij->i", gx, gx) > 0)
+    ok = on_surface(fx, iso) & (np.einsum("ij,ij->i", gx, gx) > 0)
     X = X[ok]
     cells = np.floor((X - lo) / h).astype(np.int64)
     inb = np.all((cells >= 0) & (cells < np.array(grid.res)), axis=1)

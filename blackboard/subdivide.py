@@ -15,6 +15,7 @@ points remember that scale (their agents trace with steps of it).
 """
 import numpy as np
 
+from ..model.tolerances import CROSSING, field_tol
 from .keys import unique_rows
 from .polygonise import edge_ends, refine_crossings
 
@@ -103,9 +104,9 @@ def _fine_block(ev, lo, h, ijk, k, view, crease_angle, kinds):
     if n == 0:
         return empty
     A, B, fA, fB = (np.concatenate([e[i] for e in ends]) for i in range(4))
-    # to |f - iso| <= 1e-11 (the bracket ends a seed takes are projected onto the
+    # to |f - iso| <= CROSSING (the bracket ends a seed takes are projected onto the
     # surface again; from there in one Newton step): about a quarter fewer evaluations
-    X = refine_crossings(ev, A, B, fA, fB, ftol=1e-11 * max(1.0, abs(ev.iso)))
+    X = refine_crossings(ev, A, B, fA, fB, ftol=field_tol(ev.iso, CROSSING))
     _, g = ev.field_grad(X)
     gn = np.linalg.norm(g, axis=1, keepdims=True)
     N = -g / np.maximum(gn, 1e-300)                                   # outward normals

@@ -14,7 +14,7 @@ gradients at one point are what Newton's method needs to put a point exactly on 
 crease (the intersection of the two sheets), in a few evaluations instead of a
 bisection's tens.
 
-The columns: one per union/intersection operator, union group (of more than one
+The columns (numbered by :class:`.sites.Sites`): one per union/intersection operator, union group (of more than one
 primitive) and union stack; two per difference (first child or the subtracted ones,
 and the subtracted ones' own max); sites inside a stack's shared shape have one column
 per stack member.
@@ -23,42 +23,6 @@ import numpy as np
 
 NOT_REACHED = -2
 ZERO = -1
-
-
-class Sites:
-    """Column numbers of a plan's decision sites: ``col[id(node)] = (first, per)``,
-    ``per`` the columns of one part (a stack's member count inside its shape, else 1)."""
-
-    def __init__(self, plan):
-        from .groups import Group
-        from .plan import Op, Warp
-        from .stack import Stack, StackedGroup, StackedOp
-        self.col = {}
-        self.count = 0
-
-        def add(node, per, parts=1):
-            self.col[id(node)] = (self.count, per)
-            self.count += per * parts
-
-        todo = [(plan, 1)]
-        while todo:
-            node, per = todo.pop()
-            if isinstance(node, (Group, StackedGroup)):
-                if node.reduce == "max" and node.m > 1:
-                    add(node, per)
-            elif isinstance(node, Stack):
-                if node.reduce == "max":
-                    add(node, per)
-                todo.append((node.shape, node.K))
-            elif isinstance(node, Warp):
-                todo.append((node.child, per))
-            elif isinstance(node, (Op, StackedOp)):
-                if node.op in ("union", "intersection"):
-                    add(node, per)
-                elif node.op == "difference":
-                    add(node, per, parts=2)
-                todo.extend((c, per) for c in node.children)
-        self._plan = plan          # the ids above are of this plan's nodes: keep it alive
 
 
 class Ctx:

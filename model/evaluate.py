@@ -11,7 +11,9 @@ from . import branches as BR
 from . import groups as G
 from . import warps as W
 from .groups import Group
-from .plan import Warp, compile_plan
+from .plan import compile_plan
+from .plan_nodes import Warp
+from .sites import Sites
 from .stack import Stack, StackedGroup
 
 CHUNK = 1 << 16
@@ -63,7 +65,7 @@ class Evaluator:
     def sites(self):
         """The plan's decision sites (model.branches), numbered on first use."""
         if "sites" not in self.memo:
-            self.memo["sites"] = BR.Sites(self.plan)
+            self.memo["sites"] = Sites(self.plan)
         return self.memo["sites"]
 
     def record(self, P):

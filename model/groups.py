@@ -10,6 +10,7 @@ Python-level call per primitive.
 import numpy as np
 
 from . import primitives as PR
+from .branches import ZERO, forced, pair_choice
 
 GRID_MIN_MEMBERS = 5         # smaller groups test every member on every point
 GRID_MAX_CELLS = 48 ** 3
@@ -117,7 +118,6 @@ def evaluate_pairs(prm, reduce, n_exp, Q, idx, pp, n, need_grad, stats=None, ctx
     if pp is None:
         return _single(f, g, reduce)
     if ctx is not None and reduce == "max":
-        from .branches import ZERO, forced, pair_choice
         w = np.full(n, ZERO, np.int64)
         if len(pp):
             owners, seg_max, win = segment_max(pp, f, dense=dense)

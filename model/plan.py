@@ -11,7 +11,7 @@ optimised plan must equal, and the baseline of ``bench/field.py``.
 
 Support bounds are conservative boxes, in each node's input coordinates, outside of
 which the node's field is exactly 0; value bounds ``[vlo, vhi]`` make that sound for
-intersection and difference (see :func:`_op_bounds`).
+intersection and difference (see :func:`.plan_nodes._op_bounds`).
 """
 import numpy as np
 
@@ -19,69 +19,8 @@ from . import nodes as N
 from . import primitives as PR
 from . import warps as W
 from .groups import Group
+from .plan_nodes import Op, Warp
 from .stack import stack_children
-
-INF = np.inf
-EMPTY = (np.full(3, INF), np.full(3, -INF))
-
-
-class Op:
-    def __init__(self, op, children, iso, n=1.0):
-        self.op, self.children, self.iso, self.n = op, list(children), iso, float(n)
-        self.lo, self.hi, self.vlo, self.vhi = _op_bounds(self)
-
-    def __repr__(self):
-        return f"Op({self.op}, {len(self.children)} children)"
-
-
-class Warp:
-    def __init__(self, kind, child, **params):
-        self.kind, self.child, self.params = kind, child, params
-        lo, hi = child.lo, child.hi
-        if kind == "affine":
-            self.lo, self.hi = W.affine_bounds(lo, hi, params["L"], params["t"])
-        elif kind == "twist":
-            self.lo, self.hi = W.twist_bounds(lo, hi, params["rate"])
-        elif kind == "taper":
-            self.lo, self.hi = W.taper_bounds(lo, hi, params["rate"])
-        else:
-            self.lo, self.hi = W.bend_bounds(lo, hi, params["rate"])
-        self.vlo, self.vhi = child.vlo, child.vhi
-
-    def __repr__(self):
-        return f"Warp({self.kind})"
-
-
-def _union_box(kids):
-    return (np.min([k.lo for k in kids], axis=0), np.max([k.hi for k in kids], axis=0))
-
-
-def _op_bounds(node):
-    kids = node.children
-    lo, hi = _union_box(kids)
-    vl = [k.vlo for k in kids]
-    vh = [k.vhi for k in kids]
-    if node.op == "blend":
-        return lo, hi, sum(vl), sum(vh)
-    if node.op == "union":
-        return lo, hi, max(vl), max(vh)
-    if node.op == "ricci":
-        return lo, hi, 0.0, float(sum(max(v, 0.0) ** node.n for v in vh) ** (1 / node.n))
-    if node.op == "intersection":
-        if min(vl) >= 0:   # outside any child's support that child is 0, so min is 0
-            lo = np.max([k.lo for k in kids], axis=0)
-            hi = np.min([k.hi for k in kids], axis=0)
-            if np.any(lo > hi):
-                lo, hi = EMPTY
-        return lo, hi, min(vl), min(vh)
-    if node.op == "difference":
-        two_iso = 2 * node.iso
-        m_lo, m_hi = max(vl[1:]), max(vh[1:])
-        if m_hi <= two_iso:   # outside the first child: min(0, 2iso - max) = 0
-            lo, hi = kids[0].lo, kids[0].hi
-        return lo, hi, min(vl[0], two_iso - m_hi), min(vh[0], two_iso - m_lo)
-    raise AssertionError(node.op)
-
 
 _REDUCE = {"blend": "sum", "union": "max", "ricci": "ricci"}
 

@@ -12,12 +12,9 @@ on small batches cost about the same as on large ones).
 """
 import numpy as np
 
+from .tolerances import CONVERGED, field_tol
+
 MIN_DAMP = 1.0 / 32.0
-
-
-def tolerance(iso):
-    """|f - iso| below which a point counts as on the surface."""
-    return 1e-14 * max(1.0, abs(float(iso)))
 
 
 def newton(ev, P, f, g, steps, max_step=None):
@@ -26,7 +23,7 @@ def newton(ev, P, f, g, steps, max_step=None):
     Points where the gradient vanishes (a flat field) cannot move and are left as they
     are. Returns the number of field evaluations made."""
     iso = ev.iso
-    tol = tolerance(iso)
+    tol = field_tol(iso, CONVERGED)
     live = np.arange(len(P))
     damp = np.ones(len(P))
     calls = 0

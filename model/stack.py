@@ -16,6 +16,7 @@ import numpy as np
 from . import primitives as PR
 from . import groups as G
 from .groups import Group
+from .plan_nodes import Op
 
 STACK_MIN = 3                 # fewer identical subtrees are left as they are
 PAIR_BLOCK = 1 << 22          # booleans per block of the (point, member) box test
@@ -34,7 +35,6 @@ STACK_MAX_PRIMS = 16
 def signature(node):
     """A hashable description of a plan node's shape, or None when it cannot be stacked
     (warps, and bare groups, which the plan already pools by kind)."""
-    from .plan import Op
     if "_signature" in node.__dict__:          # kept on the plan node: each subtree once
         return node._signature
     sig = None

@@ -8,6 +8,7 @@ import dataclasses
 import numpy as np
 from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
+from ..model.tolerances import NEAR_SURFACE, on_surface
 from . import layers as L
 from . import smarticles as sm
 from . import style as ST
@@ -38,7 +39,7 @@ def single_stroke(session, style, eye, line_radius, point, max_steps=60):
     """One smarticle stroke from the surface point nearest ``point`` (or None when the
     point is too far from the surface to project onto it)."""
     P, f, g = session.surface.project(np.asarray(point, float).reshape(1, 3))
-    if abs(f[0] - session.ev.iso) > 1e-6:
+    if not on_surface(f[0], session.ev.iso, NEAR_SURFACE):
         return None
     field = L.direction_field(style.hatch_field, style.hatch_axis, eye)
     res = sm.run(session.ev, P, field, 0.3 * session.h, style.resolved_weights(),

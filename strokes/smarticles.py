@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model.curvature import curvature
+from ..model.tolerances import NEAR_SURFACE, on_surface
 from . import steering as st
 
 PRESETS = {
@@ -127,7 +128,7 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
             m = ~rules.region.contains(newp) & ~stop
             stop |= m
             why[m] = "left region"
-        m = (np.abs(fq - ev.iso) > 1e-6) & ~stop
+        m = ~on_surface(fq, ev.iso, NEAR_SURFACE) & ~stop
         stop |= m
         why[m] = "lost surface"
         for j, i in enumerate(idx):

@@ -8,7 +8,8 @@ from blobtree_ink import model as M
 from blobtree_ink.agents.surface import Surface
 from blobtree_ink.blackboard import polygonise as PG
 from blobtree_ink.blackboard.view import View
-from blobtree_ink.model.projection import newton, tolerance
+from blobtree_ink.model.projection import newton
+from blobtree_ink.model.tolerances import CONVERGED, field_tol
 
 from test_massris import model_of
 
@@ -45,7 +46,7 @@ def test_points_end_on_the_sphere_within_the_evaluation_budget():
     f, g = ev.field_grad(P)
     made = newton(ev, P, f, g, steps=12)
     assert made == ev.calls - 1 <= 12
-    assert np.abs(f - 0.5).max() <= tolerance(0.5)
+    assert np.abs(f - 0.5).max() <= field_tol(0.5, CONVERGED)
     np.testing.assert_allclose(np.linalg.norm(P, axis=1), D_ISO, atol=1e-12)
     np.testing.assert_array_equal(f, ev.ev.field(P))           # f and g follow the points
     np.testing.assert_array_equal(g, ev.ev.field_grad(P)[1])
@@ -74,7 +75,7 @@ def test_flat_points_stay_and_converged_points_are_not_evaluated_again():
     newton(ev, P, f, g, steps=8)
     np.testing.assert_array_equal(P[0], P0[0])
     assert ev.calls > 2 and ev.sizes[1:] == [1] * (ev.calls - 1)     # only the third moves
-    assert abs(f[2] - 0.5) <= tolerance(0.5)
+    assert abs(f[2] - 0.5) <= field_tol(0.5, CONVERGED)
 
 
 def test_the_polygoniser_and_the_agents_project_through_it():
@@ -169,7 +170,7 @@ def test_a_flat_point_marches_towards_the_projection_of_its_anchor_row():
     Y, fy, gy = surf.project(P[[1]], anchor=A[[0]])
     np.testing.assert_array_equal(X[1], Y[0])
     np.testing.assert_array_equal(g[1], gy[0])
-    assert abs(np.linalg.norm(X[1]) - D_ISO) < 1e-12 and abs(f[1] - 0.5) <= tolerance(0.5)
+    assert abs(np.linalg.norm(X[1]) - D_ISO) < 1e-12 and abs(f[1] - 0.5) <= field_tol(0.5, CONVERGED)
     np.testing.assert_array_equal(X[2], P[2])              # flat, no anchor: it stays
     assert f[2] == 0 and not g[2].any()
 
