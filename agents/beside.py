@@ -10,21 +10,19 @@ import numpy as np
 
 from ..blackboard.board import KIND_ID
 from ..blackboard.keys import unique_rows
-from .surface import unit
+from .steering import unit
 
 OFFSETS = np.array([0.2, 0.4, 0.7, 1.0])               # sideways, in voxels
 EVERY = 3                                              # every third traced point
 NEAR_ZERO = 0.25                                       # |n.v| beside a crease's jump
 
 
-def seeds_beside_silhouettes(session, region_ok=None):
-    """Approximate silhouette points beside the session's traced silhouettes, added to
-    its blackboard (bracket: the two sideways samples either side of the sign change),
-    one per half voxel. Returns how many were added."""
-    s = session
-    if "silhouette" not in s.settings.kinds:
-        return 0
-    sil = [o for o in s.outlines() if o.kind == "silhouette" and len(o.points) >= 2]
+def seeds_beside_silhouettes(outlines, surface, board, traced, step_len, crease_angle, region_ok=None):
+    """Approximate silhouette points beside the traced silhouettes among ``outlines``,
+    added to the blackboard (bracket: the two sideways samples either side of the sign
+    change), one per half voxel; a bracket across an outline already among the
+    ``traced`` points (agents.traced) is no news. Returns how many were added."""
+    sil = [o for o in outlines if o.kind == "silhouette" and len(o.points) >= 2]
     if not sil:
         return 0
     P = np.concatenate([o.points[::EVERY] for o in sil])
@@ -36,20 +34,20 @@ def seeds_beside_silhouettes(session, region_ok=None):
     if len(P) == 0:
         return 0
     W = unit(np.cross(N, T))
-    h, k = s.h, len(OFFSETS)
+    h, k = board.h, len(OFFSETS)
     base = np.concatenate([P, P])
     side = np.concatenate([W, -W])
     S = base[:, None, :] + (OFFSETS * h)[None, :, None] * side[:, None, :]
     # a few Newton steps: only the sign of n.v is wanted (the seeds are refined later)
-    Q, _, g = s.surface.project(S.reshape(-1, 3), steps=3, anchor=np.repeat(base, k, axis=0))
-    n = s.surface.normals(g)
-    nv = np.einsum("ij,ij->i", n, s.view.towards_eye(Q)).reshape(-1, k)
+    Q, _, g = surface.project(S.reshape(-1, 3), steps=3, anchor=np.repeat(base, k, axis=0))
+    n = surface.normals(g)
+    nv = np.einsum("ij,ij->i", n, surface.view.towards_eye(Q)).reshape(-1, k)
     Q, n = Q.reshape(-1, k, 3), n.reshape(-1, k, 3)
     # the sign just beside the outline, then the first sample where it flips again
     flip = (nv[:, 1:] > 0) != (nv[:, :1] > 0)
     rows = np.flatnonzero(flip.any(axis=1))
     j = np.argmax(flip[rows], axis=1) + 1
-    smooth = np.einsum("ij,ij->i", n[rows, j - 1], n[rows, j]) > np.cos(0.5 * s.settings.crease_angle)
+    smooth = np.einsum("ij,ij->i", n[rows, j - 1], n[rows, j]) > np.cos(0.5 * crease_angle)
     small = np.minimum(np.abs(nv[rows, j - 1]), np.abs(nv[rows, j])) < NEAR_ZERO
     keep = smooth | small
     rows, j = rows[keep], j[keep]
@@ -58,11 +56,11 @@ def seeds_beside_silhouettes(session, region_ok=None):
     a, b = Q[rows, j - 1], Q[rows, j]
     pos = 0.5 * (a + b)
     # a bracket across an outline already traced (the flip is that outline) is no news
-    known = s.traced.loop(np.full(len(pos), KIND_ID["silhouette"]), pos, 0.5 * s.step_len)
+    known = traced.loop(np.full(len(pos), KIND_ID["silhouette"]), pos, 0.5 * step_len)
     new = np.array([known.hit(q) is None for q in range(len(pos))], bool)
     a, b, pos = a[new], b[new], pos[new]
     _, first = unique_rows(np.floor(pos / (0.5 * h)).astype(np.int64), return_index=True)
     first = np.sort(first)
     if len(first):
-        s.bb.add_features(pos[first], a[first], b[first], "silhouette")
+        board.add_features(pos[first], a[first], b[first], "silhouette")
     return len(first)

@@ -6,7 +6,7 @@ polygonisation's edges may cross none of them."""
 import numpy as np
 
 from ..blackboard.board import KIND_ID
-from .surface import unit
+from .steering import unit
 
 OFFSET = 0.15       # seeds lie this many steps into their sheet (a silhouette meeting the
                     # crease obliquely still crosses the seed bracket); the two sheets'
@@ -42,31 +42,25 @@ def flips(before, now, d):
     return a, b, r
 
 
-def seed_sides(session, X, A, B):
+def seed_sides(surface, X, A, B):
     """The side records of new crease seeds (their sheets' normals from one batched
     evaluation at the bracket ends)."""
-    _, g = session.ev.field_grad(np.concatenate([A, B]))
-    n = session.surface.normals(g)
-    return sides(session.view, X, A, B, n[:len(X)], n[len(X):])
+    _, g = surface.field_grad(np.concatenate([A, B]))
+    n = surface.normals(g)
+    return sides(surface.view, X, A, B, n[:len(X)], n[len(X):])
 
 
-def silhouettes_off_creases(session, tasks, X, A, B, nA, nB, ok):
-    """After a trace step: the seed brackets (a, b, cell) of silhouettes that start on the
-    creases between each crease task's last and current point, as arrays; updates the
-    tasks' side records (agents.traces)."""
-    empty = np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0)
-    if "silhouette" not in session.settings.kinds:
-        return empty
-    rows = np.flatnonzero((tasks.kind == KIND_ID["crease"]) & ok)
+def off_creases(view, kinds, X, A, B, nA, nB, ok, has_sides, before, base):
+    """After a trace step, for the crease tasks among ``kinds`` (each task's new point
+    X, its bracket ends A, B and their normals, whether it is ``ok``, whether it has
+    side records and those records ``before``, and its trace step ``base``): the seed
+    brackets (a, b) of silhouettes that start on the creases between each task's last
+    and current point, the task each came from, and the rows whose side records are
+    now ``now`` (the caller keeps them)."""
+    rows = np.flatnonzero((kinds == KIND_ID["crease"]) & ok)
     rows = rows[np.linalg.norm(B[rows] - A[rows], axis=1) > 0]     # ends apart: sides defined
-    if len(rows) == 0:
-        return empty
-    now = sides(session.view, X[rows], A[rows], B[rows], nA[rows], nB[rows])
-    had = rows[tasks.has_sides[rows]]
-    j = np.flatnonzero(tasks.has_sides[rows])
-    before = tasks.side_x[had], tasks.side_dirs[had], tasks.side_facing[had]
-    a, b, r = flips(before, tuple(x[j] for x in now), OFFSET * tasks.base[had])
-    cell = tasks.base[had][r] / session.settings.step          # the trace's scale: its seeds'
-    tasks.side_x[rows], tasks.side_dirs[rows], tasks.side_facing[rows] = now
-    tasks.has_sides[rows] = True
-    return a, b, cell
+    now = sides(view, X[rows], A[rows], B[rows], nA[rows], nB[rows])
+    had = rows[has_sides[rows]]
+    j = np.flatnonzero(has_sides[rows])
+    a, b, r = flips(tuple(x[had] for x in before), tuple(x[j] for x in now), OFFSET * base[had])
+    return a, b, had[r], rows, now

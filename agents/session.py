@@ -3,17 +3,21 @@
     s = Session(model, View(eye=...), Settings(resolution=20, agents=10))
     s.request("OUTLINES")              # Table 1 requests, optionally in a Region
     while not s.done: s.step()         # or s.run(seconds=..., iterations=...)
-    s.outlines()                       # plain polylines by kind, each point with its normal
+    s.snapshot()                       # plain data: outlines, the rough mesh, progress
 
 Initialisation polygonises the model, fills the blackboard and processes the polygon
 edges into approximate feature points. Each system iteration the manager assigns the
-highest-priority tasks to free agents, every busy agent performs one action (a seed
+highest-priority tasks to idle agents, every busy agent performs one action (a seed
 refinement, a trace step, an exploration step), reports, and the blackboard and the
 priorities of the touched neighbourhoods are updated. Once the polygon edges' seeds are
-taken and at most DETAIL_AFTER traces are left, free agents explore the voxels the
+taken and at most DETAIL_AFTER traces are left, idle agents explore the voxels the
 blackboard flags (corner normals that disagree) where no outline passes, for features
 smaller than a cell (``Settings.explore_detail``). Iterations count from zero after
 initialisation, as in the paper.
+
+The session owns its parts and gives each only what it needs: the agent pool
+(agents.pool), the tracing tasks (agents.traces), the explorers (agents.explore), the
+blackboard and the surface queries. What it hands out is a :class:`Sampling` value.
 """
 import time
 from dataclasses import dataclass
@@ -27,13 +31,14 @@ from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature
 from ..model.tolerances import OUTLINE
-from . import explore, manager, sheets
-from . import traces as trace_tasks
+from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
-from .columns import Paths
+from .explore import Explorers
 from .outline import stitch_scales
+from .pool import AgentPool
+from .sampling import Sampling
 from .surface import Surface
-from .traced import TracedPoints
+from .traces import Traces
 
 REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
 DETAIL_AFTER = 4            # traces left when the detail phase may start
@@ -75,57 +80,46 @@ class Session:
     def __init__(self, model, view, settings=None):
         self.settings = settings or Settings()
         self.settings.check()
+        s = self.settings
         self.ev = model if isinstance(model, Evaluator) else Evaluator(model)
         self.view = view
         self.surface = Surface(self.ev, view)
-        self.rng = default_rng(self.settings.seed)
         t0 = time.perf_counter()
-        self.mesh = polygonise(self.ev, int(self.settings.resolution))
+        self.mesh = polygonise(self.ev, int(s.resolution))
         self.bb, curv = from_mesh(self.mesh, self.ev, self._curvature)
-        normals = curv["normal"]
-        feats = process_edges(self.mesh, normals, curv["mean"], view, self.settings.crease_angle)
-        for kind in self.settings.kinds:
+        self.vertex_normals = curv["normal"]
+        self.vertex_curvature = curv
+        feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle)
+        for kind in s.kinds:
             pts, a, b = feats[kind]
             self.bb.add_features(pts, a, b, kind)
-        if self.settings.explore_detail:
-            explore.corner_features(self)
-        self.vertex_normals = normals
-        self.vertex_curvature = curv
+        if s.explore_detail:
+            detail.corner_features(self.bb, self.surface, s)
         self.h = self.bb.h
-        self.step_len = self.settings.step * self.h
-        self.tol = self.settings.tolerance * self.ev.scale
-        walls = np.zeros((0, 3))
-        if self.settings.explore_detail:
-            walls, centres = explore.subtracted_walls(self, self.ev.model)
-            explore.subdivide(self, walls, centres)
-        self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), self.settings.lod)["priority"]
+        self.step_len = s.step * self.h
+        self.tol = s.tolerance * self.ev.scale
+        self._walls = np.zeros((0, 3))
+        if s.explore_detail:
+            self._walls, centres = detail.subtracted_walls(self.surface, self.h, self.ev.model.root)
+            detail.subdivide(self.bb, self.surface, s, self._walls, centres)
+        self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), s.lod)["priority"]
         self.init_seconds = time.perf_counter() - t0
         self.iteration = 0
-        self.free = list(range(self.settings.agents))
-        self.traces = trace_tasks.table(self.ev.sites.count if sheets.usable(self.surface) else 0)
-        self.paths = Paths()        # the points the tracing tasks have kept
-        self.task_serial = 0
-        self.explorers = explore.table()   # active exploration tasks
-        self.explore_queue = []     # voxel rows waiting for an explorer
-        self.explored = set()
-        self.done_outlines = []
-        self.traced = TracedPoints(self.step_len, self.settings.crease_angle, self.bb.lo)
+        self.pool = AgentPool(s.agents)
+        sites = self.ev.sites.count if sheets.usable(self.surface) else 0
+        self.traces = Traces(self.surface, self.bb, self.pool, s, self.tol, self.step_len, sites)
+        self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
+                                   s.explore_steps)
         self.requests = []
-        self.stroke_tasks = []      # filled by the stroke requests (see strokes.session)
         self._detail = None         # flagged voxels queued for exploration, once
-        # explorers start on the sheets the polygonisation missed (probe points, found
-        # once explorers are wanted: _explorer_starts) and on the walls of subtracted
-        # parts: voxel row -> start point
-        self.explore_from = {}
-        self._walls = walls
-        self._missed = None
+        self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
 
     def _curvature(self, P, g):
         return curvature(self.ev, P, g)
 
     def _explorer_starts(self):
         """Where explorers start: on the sheets the rough polygonisation missed (parts
-        thinner than a cell: explore.missed_sheets), whose voxels join the blackboard
+        thinner than a cell: detail.missed_sheets), whose voxels join the blackboard
         as surface voxels the first time this is asked (their corners flagged for
         features like the polygon's, their neighbourhood's priorities updated), and on
         the walls of subtracted parts (found at initialisation, where they subdivide
@@ -133,7 +127,7 @@ class Session:
         if self._missed is None:
             self._missed = np.zeros((0, 3))
             if self.settings.explore_detail:
-                mesh, self._missed = explore.missed_sheets(self.ev, self.mesh)
+                mesh, self._missed = detail.missed_sheets(self.ev, self.mesh)
                 k = len(self.mesh.vertices)
                 if len(mesh.vertices) > k:
                     rows, curv = self.bb.add_surface(mesh.cells[k:], mesh.vertices[k:], self.ev, self._curvature)
@@ -141,7 +135,7 @@ class Session:
                     self.vertex_normals = np.concatenate([self.vertex_normals, curv["normal"]])
                     self.vertex_curvature = {key: np.concatenate([v, curv[key]])
                                              for key, v in self.vertex_curvature.items()}
-                    explore.corner_features(self, rows)
+                    detail.corner_features(self.bb, self.surface, self.settings, rows)
                     self._reprioritise(rows)
         return np.concatenate([self._missed, self._walls])
 
@@ -166,25 +160,26 @@ class Session:
         outlines smaller than a grid cell."""
         outlines = [r for k, r in self.requests if k == "OUTLINES"]
         starts = self._explorer_starts() if outlines else None
-        self._detail = explore.flagged_voxels(self)
+        self._detail = detail.flagged_voxels(self.bb, self.surface, self.settings)
         if not outlines:
             return
         # explorers start on the missed sheets and the subtracted walls first (an
         # outline request's: the polygon's seeds, traced by then, find most outlines)
         for region in outlines:
-            explore.queue_starts(self, starts, region)
-        seeds_beside_silhouettes(self, self._in_regions)
+            self.explorers.enqueue_starts(starts, region)
+        if "silhouette" in self.settings.kinds:
+            seeds_beside_silhouettes(self.outlines(), self.surface, self.bb, self.traces.traced, self.step_len,
+                                     self.settings.crease_angle, self._in_regions)
         if len(self._detail) == 0:
             return
         v = self.bb.vox
         centres = self.bb.lo + (v["ijk"][self._detail] + 0.5) * self.h
         rows = self._detail[self._in_regions(centres)]
-        pts = self.traced.points()
+        pts = self.traces.traced.points()
         if len(pts):
             covered = self.bb.voxel_rows(self.bb.voxel_of(pts), create=False)
             rows = rows[~np.isin(rows, covered)]
-        order = rows[np.argsort(-self.priority[rows], kind="stable")]
-        self.explore_queue.extend(int(r) for r in order if int(r) not in self.explored)
+        self.explorers.enqueue(rows[np.argsort(-self.priority[rows], kind="stable")])
 
     # --- requests (Table 1) -----------------------------------------------------------
     def request(self, kind, region=None):
@@ -196,7 +191,7 @@ class Session:
         elif kind == "OUTLINES" and region is not None:
             self._queue_exploration(region, all_surface=False)
         if kind == "FIND_FEATURES":
-            explore.queue_starts(self, self._explorer_starts(), region)
+            self.explorers.enqueue_starts(self._explorer_starts(), region)
 
     def _queue_exploration(self, region, all_surface):
         v = self.bb.vox
@@ -206,8 +201,7 @@ class Session:
             rows = rows[region.contains(centres)]
         if not all_surface:
             rows = rows[self.priority[rows] > np.median(self.priority[rows])] if len(rows) else rows
-        order = rows[np.argsort(-self.priority[rows], kind="stable")]
-        self.explore_queue.extend(int(r) for r in order if int(r) not in self.explored)
+        self.explorers.enqueue(rows[np.argsort(-self.priority[rows], kind="stable")])
 
     def _in_regions(self, P, kind="OUTLINES"):
         regions = [r for k, r in self.requests if k == kind]
@@ -220,7 +214,7 @@ class Session:
     # --- the system iteration ---------------------------------------------------------
     @property
     def tasks_left(self):
-        return len(self._open_seeds()) + len(self.explore_queue) + len(self.traces) + len(self.explorers)
+        return len(self._open_seeds()) + len(self.explorers.queue) + len(self.traces) + len(self.explorers)
 
     @property
     def done(self):
@@ -242,15 +236,13 @@ class Session:
         if self.done:
             return False
         self._assign()
-        touched = []
-        touched += trace_tasks.step(self)
-        touched += explore.step(self)
+        touched = self.traces.step() + self.explorers.step()
         if touched:
             self._reprioritise(np.concatenate(touched))
         self.iteration += 1
         # the detail phase starts once the edge seeds are taken and only a few traces are
         # left (a long outline's last steps take many cheap iterations)
-        quiet = len(self.traces) <= DETAIL_AFTER and not (self.explorers or self.explore_queue)
+        quiet = len(self.traces) <= DETAIL_AFTER and not (len(self.explorers) or self.explorers.queue)
         if self.settings.explore_detail and self._detail is None and quiet and len(self._open_seeds()) == 0:
             self._queue_detail()
         return True
@@ -269,11 +261,11 @@ class Session:
 
     def _assign(self):
         seeds = self._open_seeds()
-        if len(seeds) and len(self.free):
+        if len(seeds) and len(self.pool):
             pr = self.priority[self.bb.feat["voxel"][seeds]]
             seeds = seeds[np.argsort(-pr, kind="stable")]
             take = []
-            budget = len(self.free)
+            budget = len(self.pool)
             for s in seeds:
                 need = 2 if self.bb.feat["kind"][s] == KIND_ID["crease"] else 1
                 if need > budget:
@@ -281,24 +273,32 @@ class Session:
                 budget -= need
                 take.append(s)
             if take:
-                trace_tasks.start(self, np.array(take))
-        if self.free and self.explore_queue:
-            k = min(len(self.free), len(self.explore_queue))
-            rows, self.explore_queue = self.explore_queue[:k], self.explore_queue[k:]
-            explore.start(self, rows)
+                self.traces.start(np.array(take), self.iteration)
+        self.explorers.assign()
 
     # --- results ----------------------------------------------------------------------
     def outlines(self, include_active=True):
         """Feature outlines found so far, fragments stitched into whole polylines."""
-        out = list(self.done_outlines)
+        out = list(self.traces.done)
         if include_active:
-            out += trace_tasks.active_outlines(self)
+            out += self.traces.active_outlines()
         return stitch_scales(out)
 
     def progress(self, outlines=None):
         """Progress figures; ``outlines``: this session's :meth:`outlines` if the caller
         has them already (stitching them is not free)."""
         outs = self.outlines() if outlines is None else outlines
+        used = self.bb.feat["used"]
         return {"iterations": self.iteration, "tasks_left": self.tasks_left,
                 "outline_length": sum(o.length for o in outs),
-                "outlines": len(outs), "busy_agents": self.settings.agents - len(self.free)}
+                "outlines": len(outs), "busy_agents": self.pool.busy,
+                "seeds": len(used), "seeds_taken": int(np.count_nonzero(used))}
+
+    def snapshot(self):
+        """What the session has found so far, as a plain :class:`Sampling` value (the
+        stroke layers read it; nothing of the session's own state is shared: the arrays
+        are the session's and are never changed in place once handed out)."""
+        outs = self.outlines()
+        return Sampling(outlines=outs, vertices=self.mesh.vertices, quads=self.mesh.quads,
+                        vertex_normals=self.vertex_normals, vertex_curvature=dict(self.vertex_curvature),
+                        cell=self.h, progress=self.progress(outs), done=self.done)

@@ -11,15 +11,12 @@ import numpy as np
 from ..model.curvature import along_points, along_values, curvature
 from ..model.projection import newton
 from .asks import Ask, run
+from .steering import unit
 
 SIL, CREASE, CURV = 0, 1, 2
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 NEWTON_ITERS = 6             # Newton iterations of a silhouette corrector before it gives up
 WEDGE = 3.0                  # a crease estimate may lie this many bracket widths from its midpoint
-
-
-def unit(v):
-    return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
 
 
 class Surface:

@@ -231,8 +231,8 @@ class TracedPoints:
                          None if n is None else [n]).hit(0)
 
 
-def consume_crossed(session, kinds, X, n, W, steps):
-    """A session's open seeds whose bracket (a polygon edge, or a finer one) crosses this
+def consume_crossed(board, surface, crease_angle, kinds, X, n, W, steps):
+    """The blackboard's open seeds whose bracket (a polygon edge, or a finer one) crosses this
     iteration's new trace points' outline are taken as traced: its ends lie on
     either side of the plane through a new point X across ``W`` (silhouettes and
     curvature-sign lines: n x T; creases: their ref, the side normals' difference),
@@ -242,11 +242,11 @@ def consume_crossed(session, kinds, X, n, W, steps):
     silhouettes of a fold, a suture's crease beside them) keeps its seeds. Nor
     (silhouettes, curvature-sign lines) is one whose normal shows it on another
     sheet: the inner and outer silhouettes of a thin lip lie that close."""
-    cos = np.cos(0.5 * session.settings.crease_angle)
-    f = session.bb.feat
+    cos = np.cos(0.5 * crease_angle)
+    f = board.feat
     for k in np.unique(kinds):
         m = kinds == k
-        ids, j = session.bb.open_near(X[m], FEATURE_KINDS[k], 1.5 * session.h)
+        ids, j = board.open_near(X[m], FEATURE_KINDS[k], 1.5 * board.h)
         Xj, Wj = X[m][j], W[m][j]
         cell = f["cell"][ids]
         reach = 0.75 * np.maximum(cell, steps[m][j])
@@ -259,6 +259,6 @@ def consume_crossed(session, kinds, X, n, W, steps):
         take = cross & (np.linalg.norm(c - Xj, axis=1) < reach)
         ids, j = ids[take], j[take]
         if len(ids) and k != KIND_ID["crease"]:
-            _, g = session.ev.field_grad(f["a"][ids])
-            ids = ids[np.einsum("ij,ij->i", session.surface.normals(g), n[m][j]) > cos]
-        session.bb.consume(ids)
+            _, g = surface.field_grad(f["a"][ids])
+            ids = ids[np.einsum("ij,ij->i", surface.normals(g), n[m][j]) > cos]
+        board.consume(ids)

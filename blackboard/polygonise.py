@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.projection import newton
+from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from .keys import unique_rows
 
@@ -247,22 +247,15 @@ def mesh_from_grid(ev, grid, project_steps=6):
         quads.append(q)
     quads = np.concatenate(quads) if quads else np.zeros((0, 4), np.int64)
     if project_steps and len(verts):
-        verts = project(ev, verts, steps=project_steps, max_step=h.max())
+        verts = project(ev, verts, steps=project_steps, max_step=h.max())[0]
         # the mean of a cell's crossings can lie in empty space or on the flat core of a
         # primitive (no gradient to follow) and stay off the surface: such a cell takes
         # one of its own (refined, on-surface) crossings instead
         fv, gv = ev.field_grad(verts)
         bad = ~on_surface(fv, iso, NEAR_SURFACE) | ~(np.einsum("ij,ij->i", gv, gv) > 0)
         if bad.any():
-            verts[bad] = project(ev, cell_any[bad], steps=project_steps, max_step=h.max())
+            verts[bad] = project(ev, cell_any[bad], steps=project_steps, max_step=h.max())[0]
     return Mesh(vertices=verts, quads=quads, cells=cells, grid=grid)
-
-
-def project(ev, P, steps, max_step=None):
-    P = np.array(P, float)
-    f, g = ev.field_grad(P)
-    newton(ev, P, f, g, steps, max_step)
-    return P
 
 
 def thin_parts(ev, mesh, max_probes=200000):
@@ -336,7 +329,7 @@ def thin_parts(ev, mesh, max_probes=200000):
     # both crossings of every edge (either side of its extremum) refined in one batch
     X = refine_crossings(ev, np.concatenate([E0, Pm]), np.concatenate([Pm, E1]), np.concatenate([fe0, fm]),
                          np.concatenate([fm, fe1]))
-    X = project(ev, X, steps=6, max_step=h.max())
+    X = project(ev, X, steps=6, max_step=h.max())[0]
     fx, gx = ev.field_grad(X)
     ok = on_surface(fx, iso) & (np.einsum("ij,ij->i", gx, gx) > 0)
     X = X[ok]

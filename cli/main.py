@@ -1,8 +1,10 @@
-"""blobtree-ink: the command line shared by `blender -c blobtree-ink` and ./blobtree-ink.
+"""blobtree-ink: the command line shared by `blender -c blobtree_ink` and ./blobtree-ink.
 
 Subcommands:
   info MODEL.json                      node count, iso, bounds
   eval MODEL.json --points IN.npy --out OUT.npy [--gradient]
+  render MODEL.json --out DIR [...]    the illustration as PNG, .blend and SVG (needs Blender:
+                                       its options are parsed here, the Blender layer renders)
 
 Bad input (an invalid model, unreadable or malformed arrays) exits 1 with one line
 naming what is wrong; usage errors exit 2. Outputs are written atomically.
@@ -16,10 +18,8 @@ import numpy as np
 
 from .. import model as M
 from ..blackboard.polygonise import surface_box
-
-
-class CliError(Exception):
-    """A user-facing error: printed as one line, exit status 1."""
+from . import render_args
+from .render_args import CliError  # noqa: F401  (the one user-facing error of every subcommand)
 
 
 def _parser():
@@ -33,20 +33,19 @@ def _parser():
     pe.add_argument("--points", required=True, help="input .npy, an (N,3) float array")
     pe.add_argument("--out", required=True, help="output .npy: (N,) field or (N,4) field+gradient")
     pe.add_argument("--gradient", action="store_true", help="also write the gradient")
-    for add in _EXTRA.values():
-        add(sub)
+    render_args.add_parser(sub)
     return p
 
 
-_EXTRA = {}   # subcommands the Blender layer adds (render needs bpy): name -> add_parser(sub)
+_RENDERER = []    # the Blender layer's renderer, while the extension is registered: fn(spec, log) -> status
 
 
-def register_command(name, add_parser):
-    _EXTRA[name] = add_parser
+def register_renderer(fn):
+    _RENDERER[:] = [fn]
 
 
-def unregister_command(name):
-    _EXTRA.pop(name, None)
+def unregister_renderer():
+    _RENDERER.clear()
 
 
 def _load_model(path):
@@ -123,7 +122,14 @@ def cmd_eval(args, out):
     return 0
 
 
-COMMANDS = {"info": cmd_info, "eval": cmd_eval}
+def cmd_render(args, out):
+    spec = render_args.spec_from_args(args)
+    if not _RENDERER:
+        raise CliError("render needs Blender: run it as ./blobtree-ink render ... or blender -c blobtree_ink render ...")
+    return _RENDERER[0](spec, lambda m: (out.write(m + "\n"), out.flush()))
+
+
+COMMANDS = {"info": cmd_info, "eval": cmd_eval, "render": cmd_render}
 
 
 def main(argv=None, out=None):
@@ -135,8 +141,7 @@ def main(argv=None, out=None):
     except SystemExit as e:          # argparse: usage error or --help
         return int(e.code or 0)
     try:
-        fn = COMMANDS.get(args.command) or args.func
-        return fn(args, out)
+        return COMMANDS[args.command](args, out)
     except CliError as e:
         sys.stderr.write(f"blobtree-ink: error: {e}\n")
         return 1

@@ -1,7 +1,13 @@
-"""The one Grease Pencil API difference between Blender 4.5 LTS and 5.x, in one place.
+"""The differences between Blender versions that the Grease Pencil output meets, in one
+place.
 
-4.5 keeps the new (v3) Grease Pencil data in ``bpy.data.grease_pencils_v3``; 5.x
-renamed it to ``bpy.data.grease_pencils``.
+- 4.5 keeps the (v3) Grease Pencil data in ``bpy.data.grease_pencils_v3``; 5.x renamed
+  it to ``bpy.data.grease_pencils``.
+- 5.2 places a DOTS material's dots along a stroke's segments (``placement_mode``), and
+  a new material's default (RADIUS, one dot per spacing) gives a one-point stroke none:
+  stipples drew nothing in the viewport or in a render. COUNT with one dot per stroke
+  draws a one-point stroke as before (it is what 5.2 makes of a DOTS material saved
+  by 5.0). Earlier versions have no placement settings.
 """
 import bpy
 
@@ -12,3 +18,12 @@ def grease_pencil_data():
     if coll is None:
         coll = bpy.data.grease_pencils
     return coll
+
+
+def stipple_style(gpm):
+    """Set a material's Grease Pencil style (MaterialGPencilStyle) to draw one-point
+    strokes as dots in this version."""
+    gpm.mode = "DOTS"
+    if hasattr(gpm, "placement_mode"):
+        gpm.placement_mode = "COUNT"
+        gpm.placement_count = 1

@@ -1,21 +1,11 @@
-"""The illustration's scene: a camera framing the model in a three-quarter view, a sun
+"""The command line's scene: a camera at the eye looking at the model, a sun towards the
 light, white paper (Workbench), all reused when they exist."""
-import math
-
 import bpy
 import numpy as np
 
+from ..pipeline.framing import LENS, SENSOR
+
 CAMERA, LIGHT = "BlobTree Ink Camera", "BlobTree Ink Light"
-
-
-def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=50.0, sensor=36.0, margin=1.15):
-    """Eye position looking at the centre from the front-right, far enough to frame a
-    sphere of the given radius."""
-    az, el = math.radians(azimuth), math.radians(elevation)
-    d = np.array([math.sin(az) * math.cos(el), -math.cos(az) * math.cos(el), math.sin(el)])
-    half_fov = math.atan(sensor / (2 * lens))
-    dist = margin * radius / math.sin(half_fov)
-    return np.asarray(centre, float) + dist * d
 
 
 def setup(scene, centre, eye, size=1024, light_dir=(0.4, -0.6, 0.7)):
@@ -23,8 +13,8 @@ def setup(scene, centre, eye, size=1024, light_dir=(0.4, -0.6, 0.7)):
     if cam is None:
         cam = bpy.data.objects.new(CAMERA, bpy.data.cameras.new(CAMERA))
         scene.collection.objects.link(cam)
-    cam.data.lens = 50.0
-    cam.data.sensor_width = 36.0
+    cam.data.lens = LENS
+    cam.data.sensor_width = SENSOR
     cam.location = tuple(float(x) for x in eye)
     look = np.asarray(centre, float) - np.asarray(eye, float)
     cam.rotation_euler = _look_rotation(look)
@@ -45,6 +35,7 @@ def setup(scene, centre, eye, size=1024, light_dir=(0.4, -0.6, 0.7)):
         scene.world = bpy.data.worlds.new("BlobTree Ink Paper")
     scene.world.color = (1.0, 1.0, 1.0)            # Workbench renders the world colour: paper
     scene.view_settings.view_transform = "Standard"
+    bpy.context.view_layer.update()              # the objects' world matrices, read by the job
     return cam, light
 
 

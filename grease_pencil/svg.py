@@ -11,22 +11,19 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from ..strokes.data import Stroke, StrokeSet
+from ..strokes.data import Stroke
 
 SVG_NS = "http://www.w3.org/2000/svg"
 _NUM = re.compile(r"-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?")
 
 
-def with_exportable_dots(strokes, nudge):
-    """A copy of the stroke set whose stipples are two-point strokes (p, p + nudge)."""
-    out = StrokeSet()
-    for name, ss in strokes.layers.items():
-        for s in ss:
-            if s.dots:
-                p = s.points[0]
-                s = Stroke(np.array([p, p + nudge]), np.repeat(s.radius[:1], 2), np.repeat(s.opacity[:1], 2),
-                           dots=True)
-            out.add(name, s)
+def exportable_dots(strokes, nudge):
+    """The stipples as two-point strokes (p, p + nudge)."""
+    out = []
+    for s in strokes:
+        p = s.points[0]
+        out.append(Stroke(np.array([p, p + nudge]), np.repeat(s.radius[:1], 2), np.repeat(s.opacity[:1], 2),
+                          dots=True))
     return out
 
 

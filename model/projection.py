@@ -48,3 +48,12 @@ def newton(ev, P, f, g, steps, max_step=None):
         damp[moved] = np.minimum(1.0, 2.0 * damp[moved])
         damp[live[~better]] *= 0.5
     return calls
+
+
+def project(ev, P, steps, max_step=None):
+    """A copy of P (m,3) moved onto f = iso by :func:`newton`; returns it with f and g
+    there."""
+    P = np.array(P, float).reshape(-1, 3)
+    f, g = ev.field_grad(P)
+    newton(ev, P, f, g, steps, max_step)
+    return P, f, g

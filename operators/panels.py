@@ -39,8 +39,8 @@ def _draw(layout, context, trees):
     if last_run:
         col = layout.column(align=True)
         col.label(text=f"Last run: {last_run.get('state', '')}")
+        col.label(text=f"Done: {100 * last_run.get('fraction', 0.0):.0f} % ({last_run.get('stage', '')})")
         col.label(text=f"Iterations: {last_run.get('iterations', 0)}")
-        col.label(text=f"Tasks left: {last_run.get('tasks_left', 0)}")
         col.label(text=f"Outline length: {last_run.get('outline_length', 0):.3g}")
 
 

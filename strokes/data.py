@@ -3,7 +3,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-LAYERS = ("Silhouette", "Crease", "Curvature", "Hatching", "Stipples", "Strokes")
+LAYERS = ("Silhouette", "Crease", "Curvature", "Hatching", "Chains", "Short Strokes", "Stipples", "Single Strokes")
 LAYER_OF_KIND = {"silhouette": "Silhouette", "crease": "Crease", "curvature": "Curvature"}
 
 

@@ -12,7 +12,7 @@ its shade (:func:`tone`): darker, thicker and blacker.
 import numpy as np
 
 from . import smarticles as sm
-from . import steering as st
+from ..agents import steering as st
 from .data import Stroke
 from .visibility import split_visible_many, visible
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..model.curvature import curvature
 from ..model.tolerances import NEAR_SURFACE, on_surface
-from . import steering as st
+from ..agents import steering as st
 
 PRESETS = {
     # Smarticles 7.2: parallel strokes want separation and alignment over cohesion

@@ -1,6 +1,6 @@
-"""A drawing style and the one function that turns a sampling session into plain
-strokes with it. The command line, the Illustrate operator and the tests all go
-through :func:`place`, so there is one path from agents to strokes.
+"""A drawing style, its presets, and the visible outlines as plain strokes. The stroke
+layers a style draws are placed by the illustration pipeline (pipeline.layers), the one
+path from agents to strokes.
 
 A style says which layers to draw (outlines, hatching, stipples, strokes from the
 feature chains, short strokes on polygon centres), the flow field and steering weights
@@ -112,17 +112,6 @@ def style(name, **changes):
     return replace(STYLES[name], **changes).check()
 
 
-def default_light(centre, eye):
-    """Light from the upper left of the viewer, as illustrators draw it (a unit
-    direction towards the light)."""
-    d = np.asarray(eye, float) - np.asarray(centre, float)
-    d /= np.linalg.norm(d)
-    right = np.cross([0.0, 0.0, 1.0], d)          # the viewer's right (d points at the eye)
-    right /= max(np.linalg.norm(right), 1e-12)
-    light = 0.5 * d - 0.6 * right + 0.7 * np.array([0.0, 0.0, 1.0])
-    return light / np.linalg.norm(light)
-
-
 def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
     """Visible parts of outlines as plain strokes; with a light, the side turned from
     it is drawn heavier (by ``contrast``)."""
@@ -145,62 +134,3 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
                 r, _ = L.tone(L.lighting(nrm[a:end], light), 1.0, radius, 0.5 * contrast)
             out.add(LAYER_OF_KIND[o.kind], Stroke(seg, r, np.ones(len(seg)), cyclic=whole))
     return out
-
-
-def place(session, eye, light, st, rng, line_radius, region=None):
-    """All the layers of style ``st`` for a sampling session (its outlines, polygon
-    vertices and faces) as a StrokeSet; ``region`` restricts the stroke layers."""
-    st.check()
-    ev = session.ev
-    r = line_radius * st.line_width
-    outlines = session.outlines()
-    strokes = outline_strokes(outlines, ev, eye, r, light, st.contrast) if st.outlines else StrokeSet()
-    step = 0.3 * session.h
-    w = st.resolved_weights()
-    V, N = session.mesh.vertices, session.vertex_normals
-    keep = np.ones(len(V), bool) if region is None else region.contains(V)
-    if st.surface != "all":
-        mean = session.vertex_curvature["mean"]
-        keep &= mean > 0 if st.surface == "convex" else mean < 0
-    V, N = V[keep], N[keep]
-    kw = dict(radius=0.6 * r, region=region, contrast=st.contrast, weights=w)
-    if st.hatching:
-        rules = sm.StrokeRules(max_steps=st.hatch_steps, region=region,
-                               stop_on_curvature_sign=st.surface != "all")
-        for s in L.hatching(ev, V, N, eye, light, step, rng, field=st.hatch_field, axis=st.hatch_axis,
-                            lower=st.shade_lower, upper=st.shade_upper, rules=rules,
-                            flock_size=st.flock_size, **kw):
-            strokes.add("Hatching", s)
-        if st.cross_hatching:           # cross-hatching in the darkest part of the shade
-            up = 0.5 * (st.shade_lower + st.shade_upper)
-            for s in L.hatching(ev, V, N, eye, light, step, rng, field=st.cross_field, axis=st.hatch_axis,
-                                lower=0.4 * st.shade_lower, upper=up, rules=rules, flock_size=st.flock_size,
-                                **dict(kw, radius=0.5 * r)):
-                strokes.add("Hatching", s)
-    if st.chains and outlines:
-        near = [o for o in outlines if region is None or region.contains(o.points).any()]
-        for s in L.chain_strokes(ev, near, eye, light, step, rng, every=st.chain_step, angle=st.chain_angle,
-                                 field=st.chain_field, axis=st.hatch_axis,
-                                 max_distance=st.chain_distance * session.h, lower=st.shade_lower,
-                                 upper=st.shade_upper, **kw):
-            strokes.add("Hatching", s)
-    if st.short:
-        C, CN = face_centres(session)
-        inside = np.ones(len(C), bool) if region is None else region.contains(C)
-        for s in L.short_strokes(ev, C[inside], CN[inside], eye, light, step, rng, field=st.hatch_field,
-                                 axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05, **kw):
-            strokes.add("Strokes", s)
-    if st.stipples:
-        for s in L.stipples(ev, V[::2], N[::2], eye, light, 0.5 * step, rng, every=st.stipple_every,
-                            lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * r,
-                            region=region, contrast=st.contrast):
-            strokes.add("Stipples", s)
-    return strokes
-
-
-def face_centres(session):
-    """Centres and normals of the rough polygonisation's faces."""
-    q = session.mesh.quads
-    C = session.mesh.vertices[q].mean(axis=1)
-    N = session.vertex_normals[q].sum(axis=1)
-    return C, N / np.maximum(np.linalg.norm(N, axis=1, keepdims=True), 1e-300)

@@ -18,6 +18,7 @@ import tempfile
 import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(REPO, "tests"))     # helpers shared by the tiers (strokes_match)
 EXAMPLES = os.path.join(REPO, "examples")
 EXT_MODULE = "bl_ext.user_default.blobtree_ink"
 INSIDE_BLENDER = bool(os.environ.get("BTI_INSIDE_BLENDER"))

@@ -22,25 +22,32 @@ def test_trace_outlines_writes_the_strokes(example):
     assert len([o for o in bpy.data.objects if o.type == "GREASEPENCIL"]) == 1
     from importlib import import_module
     run = import_module("bl_ext.user_default.blobtree_ink.operators.illustrate").last_run
-    assert run["state"] == "done" and run["tasks_left"] == 0 and run["iterations"] > 0
+    assert run["state"] == "done" and run["fraction"] == 1.0 and run["stage"] == "done" and run["iterations"] > 0
 
 
-def test_place_strokes_stay_in_the_region_around_the_cursor(example):
+def test_place_strokes_stay_in_the_selected_objects_bounds_else_cover_the_model(example):
     bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
     tree = bpy.data.node_groups["pear"]
     tree.ink.grid_resolution = 12
     tree.ink.hatching = True
     tree.ink.stipples = True
-    tree.ink.region_radius = 0.5
-    bpy.context.scene.cursor.location = (-0.6, -0.5, -0.2)
+    marker = bpy.data.objects.new("Region", bpy.data.meshes.new("Region"))
+    bpy.context.scene.collection.objects.link(marker)
+    marker.data.from_pydata([(-1, -1, -1), (1, 1, 1)], [], [])
+    marker.location, marker.scale = (-0.6, -0.5, -0.2), (0.4, 0.4, 0.4)
+    bpy.context.view_layer.update()
+    marker.select_set(True)
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
     layers = ink("pear")
     placed = layers["Hatching"] + layers["Stipples"]
     assert placed
-    centre = np.array(bpy.context.scene.cursor.location)
-    for s in placed:
-        pts = np.array([p.position for p in s.points])
-        assert np.linalg.norm(pts - centre, axis=1).max() <= 0.5 + 1e-5
+    pts = np.array([p.position for s in placed for p in s.points])
+    assert np.all(np.abs(pts - marker.location) <= 0.4 + 1e-5)       # inside the marker's box
+    marker.select_set(False)                                          # no selection: the whole model
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    layers = ink("pear")
+    pts = np.array([p.position for s in layers["Hatching"] + layers["Stipples"] for p in s.points])
+    assert np.ptp(pts[:, 2]) > 1.0 and len(layers["Hatching"]) > len([s for s in placed if len(s.points) > 1])
 
 
 def test_single_stroke_from_the_cursor(example):
@@ -49,7 +56,7 @@ def test_single_stroke_from_the_cursor(example):
     bpy.context.scene.cursor.location = (0.0, -r, 0.0)
     bpy.data.node_groups["sphere"].ink.grid_resolution = 10
     assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="SINGLE_STROKE") == {"FINISHED"}
-    strokes = ink("sphere")["Strokes"]
+    strokes = ink("sphere")["Single Strokes"]
     assert len(strokes) == 1 and len(strokes[0].points) > 5
     pts = np.array([p.position for p in strokes[0].points])
     assert np.abs(np.linalg.norm(pts, axis=1) - r).max() < 1e-3
@@ -106,7 +113,6 @@ def test_place_strokes_uses_the_tree_style_and_the_scene_sun(example):
     tree.ink.grid_resolution = 12
     tree.ink.hatching, tree.ink.chains, tree.ink.short = True, True, True
     tree.ink.cross_hatching = False
-    tree.ink.region_radius = 5.0
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
     bpy.context.scene.collection.objects.link(sun)
     sun.rotation_euler = (0.0, np.pi / 2, 0.0)        # its +Z axis (towards the light) is +x
@@ -116,8 +122,8 @@ def test_place_strokes_uses_the_tree_style_and_the_scene_sun(example):
     cam.location = (0.0, -4.0, 0.0)
     assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="PLACE_STROKES") == {"FINISHED"}
     layers = ink("sphere")
-    assert layers["Hatching"] and layers["Strokes"]
-    pts = np.array([p.position for s in layers["Hatching"] + layers["Strokes"] for p in s.points])
+    assert layers["Hatching"] and layers["Chains"] and layers["Short Strokes"]
+    pts = np.array([p.position for s in layers["Hatching"] + layers["Short Strokes"] for p in s.points])
     # the shade (n.L at most shade_upper 0.6, 0.65 for short strokes) is on the side away from the sun (-x)
     assert pts[:, 0].max() < 0.66 * 0.4543 and pts[:, 0].min() < -0.4
     radii = np.array([p.radius for s in layers["Hatching"] for p in s.points])

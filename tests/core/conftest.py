@@ -7,6 +7,7 @@ import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(REPO, "tools"))
+sys.path.insert(0, os.path.join(REPO, "tests"))     # helpers shared by the tiers (strokes_match)
 import pure  # noqa: E402
 
 pure.install()

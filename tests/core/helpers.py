@@ -26,3 +26,31 @@ def fd_gradient(ev, P, h=1e-6):
         e[k] = h
         G[:, k] = (ev.field(P + e) - ev.field(P - e)) / (2 * h)
     return G
+
+
+def job_for(load_example, name, style="outlines", res=16, seed=0, requests=None, **style_changes):
+    """A pipeline job for an example seen from a fixed three-quarter view, lit from the
+    viewer's upper left: outlines, and the style's strokes when it has any."""
+    from blobtree_ink import model as M
+    from blobtree_ink import pipeline as PL
+    from blobtree_ink.agents import Settings
+    from blobtree_ink.blackboard.view import View
+    from blobtree_ink.strokes import style as ST
+    ev = M.Evaluator(load_example(name))
+    centre, radius = PL.bounds(ev)
+    eye = PL.three_quarter_eye(centre, radius)
+    st = ST.style(style, **style_changes)
+    if requests is None:
+        requests = [PL.Request("OUTLINES")]
+        if st.hatching or st.stipples or st.chains or st.short:
+            requests.append(PL.Request("PLACE_STROKES"))
+    return PL.Job(ev, View(eye=eye), PL.default_light(centre, eye), st, tuple(requests), seed, Settings(resolution=res))
+
+
+def same_strokes(a, b):
+    """Two stroke sets hold the same strokes, bit for bit."""
+    assert {k: len(v) for k, v in a.layers.items()} == {k: len(v) for k, v in b.layers.items()}
+    for name in a.layers:
+        for x, y in zip(a.layers[name], b.layers[name]):
+            assert np.array_equal(x.points, y.points) and np.array_equal(x.radius, y.radius)
+            assert np.array_equal(x.opacity, y.opacity) and x.cyclic == y.cyclic and x.dots == y.dots

@@ -32,13 +32,13 @@ def test_sideways_steps_find_silhouettes_the_polygon_edges_missed(load_example, 
     real = session_module.seeds_beside_silhouettes
     added = []
 
-    def counted(s, region):
-        added.append(real(s, region))
+    def counted(*args):
+        added.append(real(*args))
         return added[-1]
     monkeypatch.setattr(session_module, "seeds_beside_silhouettes", counted)
     probed = traced(model, view)
     assert len(added) == 1 and added[0] > 0          # once, when the edge seeds were traced
-    monkeypatch.setattr(session_module, "seeds_beside_silhouettes", lambda s, region: 0)
+    monkeypatch.setattr(session_module, "seeds_beside_silhouettes", lambda *args: 0)
     plain = traced(model, view)
     A, B = silhouette_points(probed), silhouette_points(plain)
     h = probed.h
@@ -59,4 +59,5 @@ def test_nothing_beside_a_sphere_silhouette():
     from test_massris import model_of
     s = traced(model_of({"type": "point", "center": [0, 0, 0], "radius": 1.0}), View(eye=(0.3, -4.0, 1.0)))
     assert len(silhouette_points(s)) > 20
-    assert session_module.seeds_beside_silhouettes(s, None) == 0
+    assert session_module.seeds_beside_silhouettes(s.outlines(), s.surface, s.bb, s.traces.traced, s.step_len,
+                                                   s.settings.crease_angle) == 0

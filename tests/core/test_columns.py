@@ -52,14 +52,14 @@ def test_a_sessions_tracing_tasks_are_rows_of_arrays():
     two halves."""
     s = one_seed_session(agents=2)
     s.step()
-    tk = s.traces
-    assert len(tk) == 2 and len(s.free) == 0
+    tk = s.traces.table
+    assert len(tk) == 2 and len(s.pool) == 0 and s.pool.busy == 2
     assert tk.fwd.tolist() == [True, False] and tk.paired.all() and tk.id[0] == tk.id[1]
     assert sorted(tk.agents[:, 0].tolist()) == [0, 1] and (tk.agents[:, 1] == -1).all()
     assert tk.nf.tolist() == [2, 0] and tk.nb.tolist() == [0, 1]
     f, _ = s.ev.field_grad(tk.p)
     assert np.all(np.abs(f - s.ev.iso) < 1e-9)
-    pts = s.paths.of(tk.serial)
+    pts = s.traces.paths.of(tk.serial)
     assert [len(x) for x, _ in pts] == [2, 1]
     assert np.array_equal(pts[0][0][-1], tk.p[0]) and np.array_equal(pts[1][0][-1], tk.p[1])
     assert np.array_equal(pts[0][0][0], tk.start[0])           # the seed, on the forward half

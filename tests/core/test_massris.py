@@ -195,8 +195,8 @@ def test_find_features_in_a_region_explores_only_there(load_example):
     s = Session(m, View(eye=(5, -7, 3)), Settings(resolution=14, seed=1))
     region = Region(sphere=((0.0, 0.0, 1.6), 0.4))       # around the stalk
     s.request("FIND_FEATURES", region)
-    assert s.explore_queue
-    queued = s.bb.lo + (s.bb.vox["ijk"][s.explore_queue] + 0.5) * s.h
+    assert s.explorers.queue
+    queued = s.bb.lo + (s.bb.vox["ijk"][s.explorers.queue] + 0.5) * s.h
     assert np.all(region.contains(queued))
     s.run(iterations=200)
     assert s.bb.vox["path_steps"].sum() > 0
@@ -297,7 +297,7 @@ def test_a_feature_smaller_than_a_cell_is_seeded_from_the_corners_of_flagged_vox
     s._detail = np.zeros(0, np.int64)          # no exploration: the corner seeds alone
     s.request("OUTLINES")
     s.run()
-    assert s.done and len(s.explored) == 0
+    assert s.done and len(s.explorers.explored) == 0
     small = [o for o in s.outlines() if np.linalg.norm(o.points - c, axis=1).max() < 2 * rho]
     assert len(small) == 1 and small[0].closed
     np.testing.assert_allclose(np.linalg.norm(small[0].points - c, axis=1), rho, atol=1e-6)
@@ -315,7 +315,7 @@ def test_a_feature_smaller_than_a_cell_is_found_by_exploring_flagged_voxels():
     edges_only = run(model, View(eye=tuple(eye)), resolution=12, explore_detail=False)
     assert all(np.linalg.norm(o.points - c, axis=1).min() > 2 * rho for o in edges_only.outlines())
     s = run(model, View(eye=tuple(eye)), resolution=12)
-    assert len(s.explored) > 0
+    assert len(s.explorers.explored) > 0
     small = [o for o in s.outlines() if np.linalg.norm(o.points - c, axis=1).max() < 2 * rho]
     assert len(small) == 1 and small[0].closed
     o = small[0]

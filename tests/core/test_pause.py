@@ -1,5 +1,5 @@
 """Bisections that pause (agents.bisection.bisect_some) and seeds that go back on the
-blackboard with their narrowed brackets (agents.traces.requeue): a seed's refinement
+blackboard with their narrowed brackets (agents.traces.Traces._requeue): a seed's refinement
 is one agent action per system iteration, not a batch held up by its slowest row."""
 import math
 
@@ -94,7 +94,7 @@ def test_a_seed_open_after_its_last_round_is_dropped(load_example, monkeypatch):
 
 
 def test_a_seed_whose_bracket_did_not_narrow_is_dropped():
-    """requeue puts a paused seed back with its narrowed bracket, one round more, but
+    """_requeue puts a paused seed back with its narrowed bracket, one round more, but
     not one whose bracket kept NARROWED of its width or more in the round (a stuck
     bisection), nor one at its last round."""
     from test_massris import model_of
@@ -110,7 +110,7 @@ def test_a_seed_whose_bracket_did_not_narrow_is_dropped():
     # third not quite (it is stuck), the fourth narrowed but is at its last round
     frac = np.array([0.5, TS.NARROWED - 0.01, TS.NARROWED + 0.01, 0.5])
     A, B = a, a + frac[:, None] * (b - a)
-    TS.requeue(s, ids, A, B)
+    s.traces._requeue(ids, A, B)
     assert f.n == n0 + 2
     np.testing.assert_array_equal(f["a"][n0:f.n], A[:2])
     np.testing.assert_array_equal(f["b"][n0:f.n], B[:2])

@@ -8,7 +8,7 @@ from blobtree_ink import model as M
 from blobtree_ink.agents.surface import Surface
 from blobtree_ink.blackboard import polygonise as PG
 from blobtree_ink.blackboard.view import View
-from blobtree_ink.model.projection import newton
+from blobtree_ink.model.projection import newton, project
 from blobtree_ink.model.tolerances import CONVERGED, field_tol
 
 from test_massris import model_of
@@ -82,7 +82,7 @@ def test_the_polygoniser_and_the_agents_project_through_it():
     # one implementation: both callers' evaluations are newton's (plus their first)
     ev = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
     P = start_points()
-    Q = PG.project(ev, P, steps=12)
+    Q = project(ev, P, steps=12)[0]
     first = ev.calls
     ev2 = CountingEvaluator(M.Evaluator(model_of(SPHERE)))
     P2 = P.copy()

@@ -1,81 +1,137 @@
-"""The worker-thread runner the modal operator uses: same result as stepping in the
-caller, snapshots while it runs, stop keeps what was made, errors reach the caller."""
-import time
+"""The worker-thread runner the modal operator drives: the same result as stepping in
+the caller, results published while it runs, the initialisation on the worker, stop
+keeps what was made (with the outlines' hidden lines removed), cancel and errors reach
+the caller, join is bounded, the switch interval always comes back. The worker is held
+between steps by the runner's test hook, never raced against a clock."""
+import sys
+import threading
 
 import numpy as np
 import pytest
 
-from blobtree_ink import model as M
-from blobtree_ink.agents import Session, Settings
-from blobtree_ink.agents.runner import Runner
-from blobtree_ink.blackboard.view import View
+from blobtree_ink import pipeline as PL
+from blobtree_ink.pipeline import runner as RN
+from helpers import job_for, same_strokes
 
 
-def session(load_example, name="torus", res=16):
-    ev = M.Evaluator(load_example(name))
-    return Session(ev, View(eye=np.array([1.0, -4.0, 2.5])), Settings(resolution=res, seed=3))
-
-
-def wait(runner, cond, limit=120.0):
-    t0 = time.monotonic()
-    while not cond() and time.monotonic() - t0 < limit:
-        time.sleep(0.005)
-    assert cond(), "the runner did not get there in time"
+@pytest.fixture(autouse=True)
+def released():
+    yield
+    RN.HOLD.release()
 
 
 def test_the_threaded_run_equals_the_plain_run(load_example):
-    plain = session(load_example)
-    plain.request("OUTLINES")
-    plain.run()
-    s = session(load_example)
-    s.request("OUTLINES")
+    plain = PL.Illustration(job_for(load_example, "torus", "hatched")).run()
     seen = []
-    r = Runner(s, finalize=lambda: "finished strokes").start()
-    wait(r, lambda: seen.append(r.snapshot().version) or r.finished)
+    r = RN.Runner(PL.Illustration(job_for(load_example, "torus", "hatched"))).start()
+    while not r.finished:
+        res = r.latest()
+        if res is not None:
+            seen.append(res.progress.fraction)
+    r.join()
     r.check()
-    snap = r.snapshot()
-    assert snap.final == "finished strokes" and snap.progress["tasks_left"] == 0
-    assert snap.progress["iterations"] == plain.iteration
-    assert len(set(seen)) > 2 and seen == sorted(seen)          # snapshots came while it ran
-    a, b = plain.outlines(), snap.outlines
-    assert len(a) == len(b) and all(np.array_equal(x.points, y.points) for x, y in zip(a, b))
+    got = r.latest()
+    assert got.done and not got.stopped and got.progress.fraction == 1.0
+    assert seen == sorted(seen)                                  # the figure only goes up
+    same_strokes(plain.strokes, got.strokes)
+    assert got.strokes.count("Hatching") > 10 and got.strokes.count("Silhouette") > 0
 
 
-def test_stop_keeps_the_latest_snapshot_and_skips_finalize(load_example):
-    s = session(load_example, "heart", 20)
-    s.request("OUTLINES")
-    r = Runner(s, finalize=lambda: pytest.fail("finalize after a stop")).start()
-    wait(r, lambda: r.snapshot().version >= 2)
-    assert r.stop(wait=30.0)
-    snap = r.snapshot()
-    assert snap.final is None and snap.progress["tasks_left"] > 0
-    assert snap.outlines and snap.progress["iterations"] == snap.version
-    # the figures are those of the snapshot's own outlines (stitched once, shared)
-    assert snap.progress["outlines"] == len(snap.outlines) > 0
-    assert snap.progress["outline_length"] == sum(o.length for o in snap.outlines) > 0
-    assert s.progress() == s.progress(s.outlines())
+def test_the_initialisation_runs_on_the_worker(load_example):
+    ill = PL.Illustration(job_for(load_example, "heart", "outlines"))
+    assert ill.session is None and ill.stage == "init"          # nothing computed in the caller
+    RN.HOLD.arm(1)
+    r = RN.Runner(ill).start()
+    assert RN.HOLD.reached.wait(120)
+    assert ill.session is not None and ill.stage == "sampling"
+    assert r.latest().progress.stage == "sampling" and 0 < r.latest().progress.fraction < 0.5
+    RN.HOLD.release()
+    r.join(120)
+    assert r.latest().done
+
+
+def test_stop_keeps_the_outlines_found_so_far_with_their_hidden_lines_removed(load_example):
+    full = PL.Illustration(job_for(load_example, "heart", "hatched")).run()
+    RN.HOLD.arm(3)                                  # init and two system iterations
+    ill = PL.Illustration(job_for(load_example, "heart", "hatched"))
+    r = RN.Runner(ill).start()
+    assert RN.HOLD.reached.wait(120)
+    held = r.latest()
+    assert held.progress.stage == "sampling" and held.progress.iterations == 2
+    r.stop()
+    r.join()
     r.check()
+    got = r.latest()
+    assert got.stopped and not got.done and got.progress.iterations == 2
+    assert got.strokes.count("Silhouette") > 0 and got.strokes.count("Hatching") == 0   # no layer after a stop
+    assert ill.outline_set is not None                  # the outline stage ran on what was traced
+    # the visible outlines only: no more points than the raw ones held, and fewer than a full run's
+    pts = lambda s, layer: sum(len(x.points) for x in s.layers[layer])      # noqa: E731
+    assert pts(got.strokes, "Silhouette") <= pts(held.strokes, "Silhouette")
+    assert pts(got.strokes, "Silhouette") < pts(full.strokes, "Silhouette")
+
+
+def test_stop_during_a_layer_keeps_the_layers_before_it(load_example):
+    ill = PL.Illustration(job_for(load_example, "pear", "hatched"))
+    k = ill.stages.index("cross-hatching")
+    while ill.stage != "cross-hatching":            # the steps in the caller up to that layer
+        ill.step()
+    hatched = ill.result().strokes.count("Hatching")
+    ill.stop()
+    assert not ill.step()
+    got = ill.result()
+    assert got.stopped and got.strokes.count("Hatching") == hatched > 0 and k == ill.stages.index("cross-hatching")
+
+
+def test_cancel_ends_without_more_work(load_example):
+    RN.HOLD.arm(2)
+    ill = PL.Illustration(job_for(load_example, "heart", "outlines"))
+    r = RN.Runner(ill).start()
+    assert RN.HOLD.reached.wait(120)
+    r.cancel()
+    r.join()
+    assert ill.outline_set is None and r.latest().progress.stage == "sampling"
 
 
 def test_an_error_on_the_worker_reaches_the_caller(load_example):
-    s = session(load_example)
-    s.request("OUTLINES")
+    ill = PL.Illustration(job_for(load_example, "torus", "outlines"))
 
     def broken():
         raise FloatingPointError("field blew up")
-    s.step = broken
-    r = Runner(s).start()
-    wait(r, lambda: r.finished)
-    with pytest.raises(RuntimeError, match="the agents failed: FloatingPointError.*field blew up"):
+    ill.step = broken
+    before = sys.getswitchinterval()
+    r = RN.Runner(ill).start()
+    r.join()
+    assert sys.getswitchinterval() == before
+    with pytest.raises(RN.RunnerError, match="the illustration failed: FloatingPointError.*field blew up"):
         r.check()
 
 
+def test_join_is_bounded_and_says_why(load_example):
+    ill = PL.Illustration(job_for(load_example, "torus", "outlines"))
+    gate, entered = threading.Event(), threading.Event()
+
+    def stuck():
+        entered.set()
+        gate.wait(60)
+        return False
+    ill.step = stuck
+    r = RN.Runner(ill).start()
+    assert entered.wait(30)
+    r.cancel()
+    with pytest.raises(RN.RunnerError, match=r"did not end within 0.1 s .*'init' stage"):
+        r.join(0.1)
+    gate.set()
+    r.join()
+    assert r.finished
+
+
 def test_the_switch_interval_is_short_only_while_a_worker_runs(load_example):
-    import sys
     before = sys.getswitchinterval()
-    s = session(load_example)
-    s.request("OUTLINES")
-    r = Runner(s).start()
+    RN.HOLD.arm(1)
+    r = RN.Runner(PL.Illustration(job_for(load_example, "torus", "outlines"))).start()
+    assert RN.HOLD.reached.wait(60)
     during = sys.getswitchinterval()
-    wait(r, lambda: r.finished)
-    assert during <= 2e-4 < before and sys.getswitchinterval() == before
+    r.cancel()
+    r.join()
+    assert during <= RN.SWITCH_INTERVAL < before and sys.getswitchinterval() == before

@@ -8,10 +8,12 @@ import numpy as np
 import pytest
 
 from blobtree_ink import model as M
+from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.curvature import curvature
-from blobtree_ink.strokes import layers, smarticles as sm, steering as st, style as ST
+from blobtree_ink.agents import steering as st
+from blobtree_ink.strokes import layers, smarticles as sm, style as ST
 from blobtree_ink.strokes.visibility import split_visible, split_visible_many
 
 K = math.sqrt(1 - 0.5 ** (1 / 3))      # sphere radius of an R=1 primitive at iso 0.5
@@ -19,6 +21,15 @@ K = math.sqrt(1 - 0.5 ** (1 / 3))      # sphere radius of an R=1 primitive at is
 
 def ev_of(root):
     return M.Evaluator(M.from_dict({"format": "blobtree-1", "root": root}))
+
+
+def drawn(ev, eye, light, style, seed=0, res=14, outlines=True):
+    """The strokes of an illustration through the pipeline (outlines and the style's
+    strokes; lines of radius 0.01)."""
+    requests = ((PL.Request("OUTLINES"),) if outlines else ()) + (PL.Request("PLACE_STROKES"),)
+    style = dataclasses.replace(style, line_width=0.01 / PL.line_radius(ev))
+    job = PL.Job(ev, View(eye=eye), light, style, requests, seed, Settings(resolution=res, seed=1))
+    return PL.Illustration(job).run().strokes
 
 
 @pytest.fixture(scope="module")
@@ -43,7 +54,7 @@ def blend_session(load_example):
 
 def test_default_light_comes_from_the_viewers_upper_left():
     centre, eye = np.zeros(3), np.array([0.0, -5.0, 0.0])       # looking along +y: the viewer's right is +x
-    L = ST.default_light(centre, eye)
+    L = PL.default_light(centre, eye)
     assert abs(np.linalg.norm(L) - 1) < 1e-12
     assert L[0] < -0.3 and L[2] > 0.3 and L[1] < 0        # left, up, towards the viewer
 
@@ -108,7 +119,7 @@ def test_chain_strokes_start_on_the_silhouette_and_go_to_the_visible_side(sphere
 
 def test_short_strokes_are_centred_on_polygon_centres(sphere_session):
     s, eye = sphere_session
-    C, CN = ST.face_centres(s)
+    C, CN = s.snapshot().face_centres()
     step = 0.3 * s.h
     out = layers.short_strokes(s.ev, C, CN, eye, np.array([0.0, 0.0, 1.0]), step, np.random.default_rng(0),
                                steps=3, lower=0.9, upper=0.95)
@@ -126,12 +137,13 @@ def test_concave_hatching_stays_in_the_concave_region(blend_session):
     light = np.array([0.0, 0.0, 1.0])
     st_ = ST.style("outlines", hatching=True, cross_hatching=False, surface="concave", outlines=False,
                    shade_lower=1.0, shade_upper=1.0)
-    out = ST.place(s, eye, light, st_, np.random.default_rng(0), 0.01)
+    out = drawn(s.ev, eye, light, st_, res=16, outlines=False)
+    assert out.count("Silhouette") == 0
     strokes = out.layers["Hatching"]
     assert len(strokes) > 3
     P = np.concatenate([x.points for x in strokes])
     assert curvature(s.ev, P)["mean"].max() < 0
-    convex = ST.place(s, eye, light, dataclasses.replace(st_, surface="convex"), np.random.default_rng(0), 0.01)
+    convex = drawn(s.ev, eye, light, dataclasses.replace(st_, surface="convex"), res=16, outlines=False)
     P = np.concatenate([x.points for x in convex.layers["Hatching"]])
     assert curvature(s.ev, P)["mean"].min() > 0
 
@@ -147,21 +159,20 @@ def test_flocks_spawn_side_by_side_and_flocked_hatching_differs(blend_session):
     assert np.ptp(P[:5, 1]) > 0.3 and np.ptp(P[5:, 2]) > 0.3      # spread across the heading
     s, eye = blend_session
     light = np.array([0.0, 0.0, 1.0])
-    flock = ST.place(s, eye, light, ST.style("flocked"), np.random.default_rng(0), 0.01).layers["Hatching"]
-    plain = ST.place(s, eye, light, ST.style("hatched", cross_hatching=False), np.random.default_rng(0),
-                     0.01).layers["Hatching"]
+    flock = drawn(s.ev, eye, light, ST.style("flocked"), res=16).layers["Hatching"]
+    plain = drawn(s.ev, eye, light, ST.style("hatched", cross_hatching=False), res=16).layers["Hatching"]
     assert len(flock) > 5 and len(plain) > 5
     for x in flock:
         assert np.abs(s.ev.field(x.points) - 0.5).max() < 1e-6
 
 
-def test_place_is_deterministic_and_tones_every_layer(sphere_session):
+def test_an_illustration_is_deterministic_and_tones_every_layer(sphere_session):
     s, eye = sphere_session
-    light = ST.default_light(np.zeros(3), eye)
+    light = PL.default_light(np.zeros(3), eye)
     st_ = ST.style("short-strokes", hatching=True, chains=True)
-    a = ST.place(s, eye, light, st_, np.random.default_rng(5), 0.01)
-    b = ST.place(s, eye, light, st_, np.random.default_rng(5), 0.01)
-    for name in ("Silhouette", "Hatching", "Stipples", "Strokes"):
+    a = drawn(s.ev, eye, light, st_, seed=5)
+    b = drawn(s.ev, eye, light, st_, seed=5)
+    for name in ("Silhouette", "Hatching", "Chains", "Stipples", "Short Strokes"):
         assert a.count(name) > 0 and a.count(name) == b.count(name)
         assert all(np.array_equal(x.points, y.points) for x, y in zip(a.layers[name], b.layers[name]))
     r = np.concatenate([x.radius for x in a.layers["Hatching"]])

@@ -88,7 +88,7 @@ def test_outlines_of_different_scales_are_stitched_apart():
     t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
     ring = np.stack([0.02 * np.cos(t), np.zeros_like(t), 0.02 * np.sin(t)], axis=1)
     small = 0.3 * 0.02 * 2 * np.pi / 40 / 0.3                  # the rings' point spacing as their step
-    s.done_outlines = [Outline("crease", ring + [0.0, 0.0, 0.0], np.ones_like(ring), True, small),
+    s.traces.done = [Outline("crease", ring + [0.0, 0.0, 0.0], np.ones_like(ring), True, small),
                        Outline("crease", ring + [0.0, 0.05, 0.0], np.ones_like(ring), True, small)]
     out = s.outlines()
     assert 0.05 < 2.5 * s.step_len                              # close enough to pool at the coarse scale

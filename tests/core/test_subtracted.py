@@ -6,7 +6,7 @@ import math
 import numpy as np
 
 from blobtree_ink import model as M
-from blobtree_ink.agents import Session, Settings, explore
+from blobtree_ink.agents import Session, Settings, detail
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.csg import subtracted_centres
 
@@ -42,7 +42,7 @@ def dimple_model():
 
 def test_walls_of_a_subtracted_part_are_on_the_surface_around_it():
     s = Session(dimple_model(), View(eye=(0.0, -6.0, 2.0)), Settings(resolution=8))
-    W, C = explore.subtracted_walls(s, s.ev.model)
+    W, C = detail.subtracted_walls(s.surface, s.h, s.ev.model.root)
     assert len(W) >= 1
     np.testing.assert_allclose(C, np.tile(DIMPLE, (len(W), 1)), atol=1e-12)     # each wall's part
     np.testing.assert_allclose(s.ev.field(W), s.ev.iso, atol=1e-9)
@@ -84,7 +84,7 @@ def test_wall_probes_are_bounded_for_models_with_very_many_subtracted_parts(monk
     model = model_of({"type": "difference", "children": [
         {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.6}] + holes})
     s = Session(model, View(eye=(0.0, -6.0, 2.0)), Settings(resolution=8))
-    full, _ = explore.subtracted_walls(s, s.ev.model)
-    monkeypatch.setattr(explore, "MAX_WALL_PROBES", 3)
-    few, _ = explore.subtracted_walls(s, s.ev.model)
+    full, _ = detail.subtracted_walls(s.surface, s.h, s.ev.model.root)
+    monkeypatch.setattr(detail, "MAX_WALL_PROBES", 3)
+    few, _ = detail.subtracted_walls(s.surface, s.h, s.ev.model.root)
     assert 0 < len(few) <= 3 * 6 < len(full)

@@ -94,15 +94,15 @@ def test_an_outline_request_probes_for_missed_sheets_once_the_polygon_seeds_are_
     view = View(eye=(2.4, -6.0, 3.0))
     s = Session(ev, view, Settings(resolution=10))
     s.request("OUTLINES")
-    assert not _disc_surface_voxels(s, centre).any() and not s.explore_queue and not s.done
+    assert not _disc_surface_voxels(s, centre).any() and not s.explorers.queue and not s.done
     before = len(s.bb.surface_rows)
     while s._detail is None:
         s.step()
     new = s.bb.surface_rows[before:]
     assert len(new) >= 2 and _disc_surface_voxels(s, centre)[before:].all()
-    starts = [r for r, p in s.explore_from.items() if np.linalg.norm(p - centre) < 0.8]
-    assert starts and set(starts) <= set(s.explore_queue) | s.explored
-    assert s.explore_queue[:len(starts)] == sorted(starts, key=s.explore_queue.index)     # ahead of the rest
+    starts = [r for r, p in s.explorers.starts.items() if np.linalg.norm(p - centre) < 0.8]
+    assert starts and set(starts) <= set(s.explorers.queue) | s.explorers.explored
+    assert s.explorers.queue[:len(starts)] == sorted(starts, key=s.explorers.queue.index)     # ahead of the rest
     on_disc = np.linalg.norm(s.bb.feat["pos"][:s.bb.feat.n] - centre, axis=1) < 0.8
     assert on_disc.any()                                       # corner feature points of the disc's voxels
     # the new voxels have their priorities (equation 3), not the zeros they were appended with
@@ -113,4 +113,4 @@ def test_an_outline_request_probes_for_missed_sheets_once_the_polygon_seeds_are_
     f = Session(ev, view, Settings(resolution=10))
     f.request("FIND_FEATURES")
     assert _disc_surface_voxels(f, centre).sum() >= 2
-    assert any(np.linalg.norm(p - centre) < 0.8 for p in f.explore_from.values())
+    assert any(np.linalg.norm(p - centre) < 0.8 for p in f.explorers.starts.values())

@@ -20,20 +20,20 @@ def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
     from blobtree_ink.agents.traced import SELF_GAP
     s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
     p = np.array([1.0, 0.0, 0.0])
-    s.traced.remember(0, p, 7, 3, np.array([1.0, 0, 0]))
+    s.traces.traced.remember(0, p, 7, 3, np.array([1.0, 0, 0]))
     near = p + [0.1 * s.step_len, 0, 0]
-    assert s.traced.near(0, near, s.step_len, 7, 3 + SELF_GAP) is None        # its last steps
-    assert s.traced.near(0, near, s.step_len, 7, 3 + SELF_GAP + 1) == (7, 3)  # its far part
-    assert s.traced.near(0, near, s.step_len, 7, -(SELF_GAP + 1)) == (7, 3)   # backward half
-    assert s.traced.near(0, near, s.step_len, 8) == (7, 3)                    # another outline
-    assert s.traced.near(1, near, s.step_len, 8) is None                      # another kind
-    assert s.traced.near(0, p + [2 * s.step_len, 0, 0], s.step_len, 8) is None
+    assert s.traces.traced.near(0, near, s.step_len, 7, 3 + SELF_GAP) is None        # its last steps
+    assert s.traces.traced.near(0, near, s.step_len, 7, 3 + SELF_GAP + 1) == (7, 3)  # its far part
+    assert s.traces.traced.near(0, near, s.step_len, 7, -(SELF_GAP + 1)) == (7, 3)   # backward half
+    assert s.traces.traced.near(0, near, s.step_len, 8) == (7, 3)                    # another outline
+    assert s.traces.traced.near(1, near, s.step_len, 8) is None                      # another kind
+    assert s.traces.traced.near(0, p + [2 * s.step_len, 0, 0], s.step_len, 8) is None
     # a point with its normal: the same sheet counts, another sheet (across a crease,
     # normals apart by more than half the crease angle) does not
     half = 0.5 * s.settings.crease_angle
     turn = lambda a: np.array([np.cos(a), np.sin(a), 0.0])
-    assert s.traced.near(0, near, s.step_len, 8, n=turn(0.9 * half)) == (7, 3)
-    assert s.traced.near(0, near, s.step_len, 8, n=turn(1.1 * half)) is None
+    assert s.traces.traced.near(0, near, s.step_len, 8, n=turn(0.9 * half)) == (7, 3)
+    assert s.traces.traced.near(0, near, s.step_len, 8, n=turn(1.1 * half)) is None
 
 
 def test_new_trace_points_cover_the_seeds_whose_bracket_they_cross(load_example):
@@ -60,7 +60,8 @@ def test_new_trace_points_cover_the_seeds_whose_bracket_they_cross(load_example)
     cr_across = seed("crease", X + 0.3 * h * W - 0.2 * h * T, X - 0.3 * h * W - 0.2 * h * T)
     cr_parallel = seed("crease", X - 0.35 * h * W, X - 0.75 * h * W)
     sil, cre = KIND_ID["silhouette"], KIND_ID["crease"]
-    consume_crossed(s, np.array([sil, cre]), np.array([X, X]), np.array([[1.0, 0, 0], [1.0, 0, 0]]),
+    consume_crossed(s.bb, s.surface, s.settings.crease_angle, np.array([sil, cre]), np.array([X, X]),
+                    np.array([[1.0, 0, 0], [1.0, 0, 0]]),
                        np.array([W, W]), np.full(2, s.step_len))
     used = s.bb.feat["used"]
     assert used[across] and used[end_on] and used[cr_across]
@@ -68,7 +69,8 @@ def test_new_trace_points_cover_the_seeds_whose_bracket_they_cross(load_example)
     # another sheet: the same crossing bracket, the trace's normal facing the other way
     other = seed("silhouette", X + 0.3 * h * W + 0.2 * h * T, X - 0.3 * h * W + 0.2 * h * T)
     cr_other = seed("crease", X + 0.3 * h * W + 0.2 * h * T, X - 0.3 * h * W + 0.2 * h * T)
-    consume_crossed(s, np.array([sil, cre]), np.array([X, X]), np.array([[-1.0, 0, 0], [-1.0, 0, 0]]),
+    consume_crossed(s.bb, s.surface, s.settings.crease_angle, np.array([sil, cre]), np.array([X, X]),
+                    np.array([[-1.0, 0, 0], [-1.0, 0, 0]]),
                        np.array([W, W]), np.full(2, s.step_len))
     used = s.bb.feat["used"]
     assert not used[other] and used[cr_other]
@@ -80,14 +82,14 @@ def test_points_of_a_longer_stepped_outline_count_within_its_step(load_example):
     line, further than the short step."""
     s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
     p = np.array([1.0, 0.0, 0.0])
-    s.traced.remember(0, p, 7, 3, np.array([1.0, 0, 0]))                 # the session's step
-    s.traced.remember(0, p + [0, 0, 0.2], 9, 3, np.array([1.0, 0, 0]), 0.1 * s.step_len)
+    s.traces.traced.remember(0, p, 7, 3, np.array([1.0, 0, 0]))                 # the session's step
+    s.traces.traced.remember(0, p + [0, 0, 0.2], 9, 3, np.array([1.0, 0, 0]), 0.1 * s.step_len)
     fine = 0.1 * s.step_len
-    assert s.traced.near(0, p + [0, 0.5 * s.step_len, 0], fine, 8) == (7, 3)
-    assert s.traced.near(0, p + [0, 0.7 * s.step_len, 0], fine, 8) is None
+    assert s.traces.traced.near(0, p + [0, 0.5 * s.step_len, 0], fine, 8) == (7, 3)
+    assert s.traces.traced.near(0, p + [0, 0.7 * s.step_len, 0], fine, 8) is None
     # a short-stepped outline's points count only within the query's radius
-    assert s.traced.near(0, p + [0, 0, 0.2 + 0.5 * fine], fine, 8) == (9, 3)
-    assert s.traced.near(0, p + [0, 0, 0.2 + 2 * fine], fine, 8) is None
+    assert s.traces.traced.near(0, p + [0, 0, 0.2 + 0.5 * fine], fine, 8) == (9, 3)
+    assert s.traces.traced.near(0, p + [0, 0, 0.2 + 2 * fine], fine, 8) is None
 
 
 def test_pairs_within_are_those_of_every_distance():

@@ -82,15 +82,14 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     print("real-UI illustrate:", json.dumps(facts))
     assert facts["invoke_result"] == ["RUNNING_MODAL"]           # a modal run, not execute
     assert facts["running_state"] == "running" and facts["strokes_while_running"] > 0
+    assert facts["running_iterations"] == 2                     # held by the runner's test hook
     assert facts["stopped_state"] == "stopped"                  # Esc reached the operator
+    assert facts["iterations_at_stop"] == 2 and facts["fraction_at_stop"] < 1.0   # stopped mid-run
+    # the outlines found so far stay, with their hidden lines removed
     assert facts["strokes_after_esc"] > 0
-    assert facts["length_after_esc"] >= 0.99 * facts["length_while_running"]   # what was made stays
-    assert facts["tasks_left_at_stop"] > 0                      # it really was stopped mid-run
+    assert 0.2 * facts["length_while_running"] < facts["length_after_esc"] <= facts["length_while_running"]
     # the UI kept processing events: another timer fired throughout the run
-    assert facts["other_timer_ticks"] >= 3 and facts["other_timer_max_gap"] < 5.0
-    # ... at about its idle rate (Xvfb with software GL is slow even idle; the agents'
-    # worker thread shares the 2 cores): the median gap within 4x the idle one
-    assert facts["other_timer_median_gap"] <= 4 * facts["idle_timer_median_gap"] + 0.2
+    assert facts["other_timer_ticks"] >= 3
     # one undo removes the whole run, and only the run
     assert facts["strokes_after_undo"] == 0 and facts["ink_object_after_undo"] is False
     assert facts["tree_after_undo"] is True

@@ -1,7 +1,9 @@
 """Real-UI test script: import the heart, start Illustrate the way a user does (invoke
-with an event loop), check that another timer keeps ticking, take a screenshot while
-it runs, press Esc through xdotool, check the strokes stay, screenshot, then undo once
-and check the run is gone."""
+with an event loop), hold its worker after two system iterations (the runner's test
+hook: the run is mid-way whatever the machine's speed), check that another timer keeps
+ticking, take a screenshot, press Esc through xdotool, check the outlines found so far
+stay (their hidden lines removed), screenshot, then undo once and check the run is
+gone; a second run is stopped by editing the tree."""
 import os
 import sys
 import time
@@ -56,19 +58,19 @@ def run():
         bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "heart.json"), preview=False)
     tree = bpy.data.node_groups["heart"]
     tree.ink.grid_resolution = 20
-    # few agents: many more (smaller) iterations, so that both runs are still going when
-    # Escape is pressed or the tree edited (with the default 10000 the heart is done in
-    # about a second); set before the undo step, which the second run starts from
-    tree.ink.agents = 16
     bpy.ops.ed.undo_push(message="imported")
     ill = sys.modules[EXT + ".operators.illustrate"]
+    hold = sys.modules[EXT + ".pipeline.runner"].HOLD
+    hold.arm(3)                              # after the initialisation and two iterations
     bpy.app.timers.register(other_timer, first_interval=0.1)
     yield 2.0
     started = time.monotonic()
     with bpy.context.temp_override(window=win, area=view3d, region=region):
         res = bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES")
     record(invoke_result=sorted(res), state_after_invoke=ill.last_run.get("state"))
-    yield 1.5
+    while not hold.reached.is_set():
+        yield 0.1
+    yield 0.5                                # a tick writes what the worker published
     ink = bpy.data.objects.get("heart Ink")
     if ink is not None:                      # frame the drawing as an artist would
         for o in bpy.context.view_layer.objects:
@@ -81,7 +83,10 @@ def run():
     len_running = length_of("heart Ink")
     yield {"action": "screenshot", "name": "illustrate_running.png"}
     yield {"action": "key", "keys": ["Escape"], "pause": 0.5}
-    yield 0.5
+    for _ in range(100):                   # the worker removes the hidden lines, then the run ends
+        if ill.last_run.get("state") != "running":
+            break
+        yield 0.1
     stopped = dict(ill.last_run)
     n_after = strokes_of("heart Ink")
     len_after = length_of("heart Ink")
@@ -96,23 +101,26 @@ def run():
            ink_object_after_undo=bpy.data.objects.get("heart Ink") is not None,
            tree_after_undo="heart" in bpy.data.node_groups)
     # a second run, stopped by editing the tree
+    hold.arm(2)
     with bpy.context.temp_override(window=win, area=view3d, region=region):
         bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES")
-    yield 1.5
+    while not hold.reached.is_set():
+        yield 0.1
     tree = bpy.data.node_groups["heart"]            # undo replaced the data: fetch it again
     node = [n for n in tree.nodes if getattr(n, "kind", "") == "point"][0]
     node.radius = node.radius * 1.01
-    for _ in range(20):                    # the next tick notices (an iteration can take a second)
+    for _ in range(100):                   # the next tick notices, the worker removes hidden lines and ends
         if ill.last_run.get("state") != "running":
             break
-        yield 0.25
+        yield 0.1
+    hold.release()
     edited = dict(ill.last_run)
     record(edited_state=edited.get("state"))
     record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
            strokes_while_running=n_running, stopped_state=stopped.get("state"),
            strokes_after_esc=n_after, length_while_running=len_running, length_after_esc=len_after,
            idle_timer_median_gap=sorted(idle)[len(idle) // 2] if idle else None, iterations_at_stop=stopped.get("iterations", 0),
-           tasks_left_at_stop=stopped.get("tasks_left"), max_tick_ms=stopped.get("max_tick_ms"),
+           fraction_at_stop=stopped.get("fraction"), max_tick_ms=stopped.get("max_tick_ms"),
            ticks=stopped.get("ticks"), other_timer_ticks=len(gaps) + 1,
            other_timer_median_gap=sorted(gaps)[len(gaps) // 2] if gaps else None,
            other_timer_max_gap=max(gaps) if gaps else None)

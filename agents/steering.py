@@ -1,6 +1,7 @@
 """Steering and flocking behaviours (Reynolds; Smarticles section 5) as pure functions
 of arrays: each returns one steering vector per smarticle, to be combined with weights
-(:func:`combine`) and integrated in a separate step (:func:`integrate`). Smarticles are
+(:func:`combine`) and integrated in a separate step (:func:`integrate`). The exploring
+agents (agents.explore) and the stroke smarticles (strokes.smarticles) share them. Smarticles are
 points, not vehicles: no local frame, and surface smarticles are put back on the
 iso-surface after every step (the attractor correction F = (f(x) - iso) grad f(x),
 applied as Newton steps).

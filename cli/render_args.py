@@ -1,16 +1,38 @@
-"""The `render` subcommand of the command line (Blender layer: it needs bpy)."""
-from ..agents.session import Settings
-from ..model import ModelError, load
+"""The `render` subcommand's options, parsed into a plain :class:`RenderSpec` (pure: the
+Blender layer sets up the scene, camera and render and drives the pipeline with it)."""
+import math
+from dataclasses import dataclass
+
+from ..agents import Settings
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
 from ..strokes import style as ST
+
+
+class CliError(Exception):
+    """A user-facing error: printed as one line, exit status 1."""
+
+
+@dataclass(frozen=True)
+class RenderSpec:
+    model: str                  # a blobtree-1 JSON file
+    out: str                    # the output directory
+    size: int = 1024
+    grid: int = 20
+    agents: int = Settings.agents
+    seed: int = 0
+    azimuth: float = 35.0
+    elevation: float = 25.0
+    light: tuple = None         # towards the light; None: the viewer's upper left
+    seconds: float = None       # a time budget for the agents
+    style: ST.Style = None
 
 
 def add_parser(sub):
     p = sub.add_parser("render", help="illustrate a model: DIR/NAME.png, .blend and .svg")
     p.add_argument("model", help="blobtree-1 JSON file")
     p.add_argument("--out", required=True, help="output directory (created if its parent exists)")
-    p.add_argument("--size", type=int, default=1024, help="image size in pixels (default 1024)")
+    p.add_argument("--size", type=int, default=1024, help="image size in pixels, 64-8192 (default 1024)")
     p.add_argument("--grid", type=int, default=20, help="blackboard grid resolution, 8-128 (default 20)")
     p.add_argument("--agents", type=int, default=Settings.agents,
                    help=f"number of agents, stepped together (default {Settings.agents})")
@@ -40,22 +62,20 @@ def add_parser(sub):
     g.add_argument("--stipple-every", type=int, default=None, help="a stipple at every k-th wander step")
     g.add_argument("--line-width", type=float, default=None, help="line width factor (default 1)")
     g.add_argument("--contrast", type=float, default=None, help="0-1: how much the light sets width and opacity")
-    p.set_defaults(func=run)
+    return p
 
 
-def _floats(text, what):
-    from ..cli.main import CliError
+def floats(text, what):
     try:
         v = tuple(float(x) for x in text.split(","))
     except ValueError:
         v = ()
-    if len(v) != 3:
-        raise CliError(f"{what} must be three comma-separated numbers x,y,z, got {text!r}")
+    if len(v) != 3 or not all(math.isfinite(x) for x in v):
+        raise CliError(f"{what} must be three comma-separated finite numbers x,y,z, got {text!r}")
     return v
 
 
-def _weights(text):
-    from ..cli.main import CliError
+def weights(text):
     if "=" not in text:
         return text.strip()
     out = {}
@@ -69,7 +89,6 @@ def _weights(text):
 
 
 def style_from_args(args):
-    from ..cli.main import CliError
     ch = {}
     if args.requests is not None:
         req = [r.strip() for r in args.requests.split(",") if r.strip()]
@@ -85,43 +104,37 @@ def style_from_args(args):
     if args.no_cross:
         ch["cross_hatching"] = False
     if args.axis is not None:
-        ch["hatch_axis"] = _floats(args.axis, "--axis")
+        ch["hatch_axis"] = floats(args.axis, "--axis")
     if args.weights is not None:
-        ch["weights"] = _weights(args.weights)
-    for opt, key in (("flock_size", "flock_size"), ("surface", "surface"), ("chain_step", "chain_step"),
-                     ("chain_angle", "chain_angle"), ("stipple_every", "stipple_every"),
-                     ("line_width", "line_width"), ("contrast", "contrast")):
-        if getattr(args, opt) is not None:
-            ch[key] = getattr(args, opt)
+        ch["weights"] = weights(args.weights)
+    for key in ("flock_size", "surface", "chain_step", "chain_angle", "stipple_every", "line_width", "contrast"):
+        if getattr(args, key) is not None:
+            ch[key] = getattr(args, key)
     try:
         return ST.style(args.style, **ch)
     except ValueError as e:
         raise CliError(f"style: {e}") from None
 
 
-def run(args, out):
-    from .render import RenderError, illustrate
-    from ..cli.main import CliError
-    st = style_from_args(args)
-    light = None if args.light is None else _floats(args.light, "--light")
+def spec_from_args(args):
+    """The render's plain spec; CliError naming the first bad option."""
+    style = style_from_args(args)
+    light = None if args.light is None else floats(args.light, "--light")
+    if light is not None and not any(light):
+        raise CliError(f"--light: the light direction must not be zero, got {args.light!r}")
+    if not 64 <= args.size <= 8192:
+        raise CliError(f"--size must be from 64 to 8192 pixels, got {args.size}")
+    for name, v, lo, hi in (("--azimuth", args.azimuth, -360.0, 360.0), ("--elevation", args.elevation, -89.0, 89.0)):
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise CliError(f"{name} must be a number from {lo:g} to {hi:g} degrees, got {v!r}")
+    if args.seconds is not None and not (math.isfinite(args.seconds) and args.seconds > 0):
+        raise CliError(f"--seconds must be a positive number, got {args.seconds!r}")
+    if args.seed < 0:
+        raise CliError(f"--seed must be a whole number from 0, got {args.seed}")
     try:
-        model = load(args.model)
-    except ModelError as e:
+        Settings(resolution=args.grid, agents=args.agents, seed=args.seed).check()
+    except ValueError as e:
         raise CliError(str(e)) from None
-    try:
-        illustrate(model, args.out, size=args.size, grid=args.grid, agents=args.agents, seed=args.seed,
-                   azimuth=args.azimuth, elevation=args.elevation, seconds=args.seconds, style=st, light=light,
-                   log=lambda m: (out.write(m + "\n"), out.flush()))
-    except RenderError as e:
-        raise CliError(str(e)) from None
-    return 0
-
-
-def register():
-    from ..cli.main import register_command
-    register_command("render", add_parser)
-
-
-def unregister():
-    from ..cli.main import unregister_command
-    unregister_command("render")
+    return RenderSpec(model=args.model, out=args.out, size=args.size, grid=args.grid, agents=args.agents,
+                      seed=args.seed, azimuth=args.azimuth, elevation=args.elevation, light=light,
+                      seconds=args.seconds, style=style)

@@ -1,0 +1,71 @@
+"""Pipeline jobs from what Blender shows (the Blender side of every path that
+illustrates): the eye from the scene camera or the viewport, the light from the scene's
+lights, a request's region from the selection or the 3D cursor, the style and settings
+from the tree. The operators and the command line build their jobs here, so the same
+scene gives the same job whichever path draws."""
+import numpy as np
+from mathutils import Vector
+
+from .. import pipeline as PL
+from ..agents import Region, Settings
+from ..blackboard.view import View
+
+
+def camera_eye(scene):
+    """The scene camera's position, or None without a camera."""
+    cam = scene.camera
+    return None if cam is None else np.array(cam.matrix_world.translation, float)
+
+
+def viewport_eye(context):
+    """The 3D viewport's eye (a perspective view), or None."""
+    rv3d = getattr(context, "region_data", None)
+    if rv3d is not None and hasattr(rv3d, "view_matrix") and rv3d.is_perspective:
+        return np.array(rv3d.view_matrix.inverted().translation, float)
+    return None
+
+
+def scene_light(scene, centre, eye):
+    """Towards the scene's light: a sun's direction, else the direction to the nearest
+    other light; without a light, the upper left of the viewer (pipeline.default_light)."""
+    lights = [o for o in scene.objects if o.type == "LIGHT" and not o.hide_render]
+    suns = [o for o in lights if o.data.type == "SUN"]
+    if suns:
+        d = np.array(suns[0].matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0)), float)
+    elif lights:
+        pos = min((np.array(o.matrix_world.translation, float) for o in lights),
+                  key=lambda p: np.linalg.norm(p - centre))
+        d = pos - centre
+    else:
+        return PL.default_light(centre, eye)
+    n = np.linalg.norm(d)
+    return d / n if n > 0 else PL.default_light(centre, eye)
+
+
+def selection_region(context, tree):
+    """The bounds of the selected objects that can mark a region (not Grease Pencil
+    objects, not the tree's own preview mesh), or None: the whole model."""
+    own = tree.preview_object
+    sel = [o for o in getattr(context, "selected_objects", None) or []
+           if o.type != "GREASEPENCIL" and (own is None or o.name != own.name)]
+    if not sel:
+        return None
+    pts = np.array([o.matrix_world @ Vector(c) for o in sel for c in o.bound_box])
+    return Region(box=(pts.min(0), pts.max(0)))
+
+
+def job(ev, scene, style, settings, requests, seed, eye=None, seconds=None):
+    """A pipeline job for a compiled model seen by the scene: ``eye`` where given (the
+    viewport's), else the scene camera's, else a three-quarter view framing the model."""
+    centre, radius = PL.bounds(ev)
+    if eye is None:
+        eye = camera_eye(scene)
+    if eye is None:
+        eye = PL.three_quarter_eye(centre, radius)
+    return PL.Job(ev, View(eye=eye), tuple(scene_light(scene, centre, eye)), style, tuple(requests), seed,
+                  settings, seconds)
+
+
+def tree_settings(ink):
+    """The sampling settings of a tree's illustration settings."""
+    return Settings(resolution=ink.grid_resolution, agents=ink.agents, lod=ink.lod, seed=ink.seed)

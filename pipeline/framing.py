@@ -1,0 +1,51 @@
+"""Where a model is and how a view frames it (pure): its surface box's centre and
+radius, a three-quarter eye that frames it, and the one rule for the line width."""
+import math
+
+import numpy as np
+
+from ..blackboard.polygonise import surface_box
+
+LINE_RADIUS = 0.0025        # a line's radius, as a fraction of the radius of the model's surface box
+                            # (about 1.1 px at 1024 px in the command line's three-quarter view)
+LENS, SENSOR, MARGIN = 50.0, 36.0, 1.15     # the framing camera: focal length and sensor width (mm), margin
+
+
+class NothingToDraw(ValueError):
+    """The model has no surface (its field never reaches iso)."""
+
+
+def bounds(ev):
+    """Centre and radius of the model's surface box (NothingToDraw where there is none)."""
+    box = surface_box(ev)
+    if box is None:
+        raise NothingToDraw("the model has no surface to draw (its field never reaches iso)")
+    lo, hi = box
+    return 0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo))
+
+
+def line_radius(ev, width=1.0):
+    """The radius of a line of the given width factor (strokes.style.Style.line_width)."""
+    return LINE_RADIUS * bounds(ev)[1] * width
+
+
+def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, sensor=SENSOR, margin=MARGIN):
+    """Eye position looking at the centre from the front-right (azimuth degrees from the
+    front, -y, towards +x; elevation degrees up), far enough for the camera to frame a
+    sphere of the given radius."""
+    az, el = math.radians(azimuth), math.radians(elevation)
+    d = np.array([math.sin(az) * math.cos(el), -math.cos(az) * math.cos(el), math.sin(el)])
+    half_fov = math.atan(sensor / (2 * lens))
+    dist = margin * radius / math.sin(half_fov)
+    return np.asarray(centre, float) + dist * d
+
+
+def default_light(centre, eye):
+    """Light from the upper left of the viewer, as illustrators draw it (a unit
+    direction towards the light)."""
+    d = np.asarray(eye, float) - np.asarray(centre, float)
+    d /= np.linalg.norm(d)
+    right = np.cross([0.0, 0.0, 1.0], d)          # the viewer's right (d points at the eye)
+    right /= max(np.linalg.norm(right), 1e-12)
+    light = 0.5 * d - 0.6 * right + 0.7 * np.array([0.0, 0.0, 1.0])
+    return light / np.linalg.norm(light)

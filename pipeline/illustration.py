@@ -1,0 +1,254 @@
+"""The illustration pipeline: a resumable stepper from a :class:`~.job.Job` to plain
+strokes by layer. The modal operator (on its worker thread), the background operator,
+the command line and the frame handler all drive this one stepper, so the same job
+gives the same strokes whichever path draws.
+
+    ill = Illustration(job)            # cheap: nothing is computed yet
+    while ill.step(): ...              # each step is one unit of work
+    ill.result()                       # a Result at any time: what is made so far
+
+The stages, in order: initialisation (polygonisation, the blackboard, sub-cell
+features: the slow part of a big model), the agents' system iterations (while outlines
+are wanted), the visible outlines (hidden lines removed against the exact surface), then
+the style's stroke layers one by one (hatching, cross-hatching, strokes from the feature
+chains, short strokes, stipples) and a single stroke. :meth:`Illustration.stop` skips
+what is left but the outlines of what was traced: a stopped illustration keeps every
+layer it finished, and the outlines found so far with their hidden lines removed.
+"""
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
+
+from ..agents import Session
+from ..strokes.data import LAYER_OF_KIND, StrokeSet
+from . import layers as LY
+from .framing import line_radius
+from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS
+
+# each stage's share of a run, for the progress figure (sampling: the share of the
+# seeds taken; the stroke layers share theirs equally)
+SHARES = {"init": 0.15, "sampling": 0.5, "outlines": 0.1, "strokes": 0.25}
+
+
+@dataclass
+class Progress:
+    """Figures of a run for the status bar: ``fraction`` (0..1) only goes up; the stage
+    being worked on and its number among the stages; the agents' iteration and outline
+    figures."""
+    fraction: float = 0.0
+    stage: str = "init"
+    stage_index: int = 0
+    stages: int = 1
+    iterations: int = 0
+    outlines: int = 0
+    outline_length: float = 0.0
+    seconds: float = 0.0
+
+
+@dataclass
+class Result:
+    """Plain strokes by layer: ``owned`` layers are replaced as a whole by the result's
+    (also where it has none on one), ``appended`` ones are added to; the others are not
+    the job's. ``done``: the run reached its end (not stopped)."""
+    strokes: StrokeSet
+    owned: tuple
+    appended: tuple
+    progress: Progress
+    warnings: list = field(default_factory=list)
+    done: bool = False
+    stopped: bool = False
+
+
+class Illustration:
+    def __init__(self, job):
+        self.job = job.checked()
+        self.ev = self.job.model
+        self.eye = np.asarray(self.job.view.eye, float)
+        self.light = np.asarray(self.job.light, float)
+        self.style = self.job.style
+        self.session = None
+        self.sampling = None
+        self.line_radius = None
+        self.rng = default_rng(self.job.seed)
+        self.layers = {}               # layer name -> strokes finished
+        self.outline_set = None        # the visible outlines (a StrokeSet), once that stage ran
+        self.warnings = []
+        self.stages = self._plan()
+        self.at = 0                    # the stage being worked on
+        self.completed = []            # the stages done (a stop skips the rest)
+        self.stopping = False
+        self.finished = False
+        self._fraction = 0.0
+        self._seeds0 = None
+        self._t0 = None
+        self._seconds = 0.0
+
+    def _plan(self):
+        j = self.job
+        stages = ["init"]
+        if j.wants_outlines():
+            stages.append("sampling")
+        if {OUTLINES, FIND_FEATURES} & set(j.kinds):
+            stages.append("outlines")
+        for switch in j.stroke_switches():
+            stages.append(switch)
+            if switch == "hatching" and self.style.cross_hatching:
+                stages.append("cross-hatching")
+        if SINGLE_STROKE in j.kinds:
+            stages.append("single")
+        return stages
+
+    # --- stepping ---------------------------------------------------------------------
+    @property
+    def stage(self):
+        return self.stages[self.at] if self.at < len(self.stages) else "done"
+
+    def stop(self):
+        """Finish early: what is left is skipped, except the visible outlines of what
+        was traced (the next :meth:`step` draws them)."""
+        self.stopping = True
+
+    def step(self):
+        """One unit of work; returns False once the illustration is finished."""
+        if self.finished:
+            return False
+        t = time.perf_counter()
+        if self._t0 is None:
+            self._t0 = t
+        stage = self.stage
+        if self.stopping and stage not in ("init", "outlines"):
+            if stage == "sampling" and "outlines" in self.stages:
+                self.at = self.stages.index("outlines")
+            else:
+                self.at = len(self.stages)
+            stage = self.stage
+        if self.stopping and stage == "init":
+            self.at = len(self.stages)
+            stage = "done"
+        if stage == "done":
+            self.finished = True
+            return False
+        getattr(self, "_" + stage.replace("-", "_"))()
+        self._seconds += time.perf_counter() - t
+        if self.at >= len(self.stages):
+            self.finished = True
+        return not self.finished
+
+    def run(self):
+        """Every step to the end; returns the result."""
+        while self.step():
+            pass
+        return self.result()
+
+    def _next(self):
+        self.completed.append(self.stage)
+        self.at += 1
+
+    def _init(self):
+        j = self.job
+        self.line_radius = line_radius(self.ev)
+        self.session = Session(self.ev, j.view, j.settings)
+        if j.wants_outlines():
+            for r in j.requests:
+                if r.kind == FIND_FEATURES:
+                    self.session.request(FIND_FEATURES, r.region)
+            self.session.request(OUTLINES)
+        self.sampling = self.session.snapshot()
+        self._seeds0 = None
+        self._next()
+
+    def _sampling(self):
+        s = self.session
+        if self.job.seconds is not None and self._seconds >= self.job.seconds:
+            s_done = True
+        else:
+            s_done = not s.step()
+        self.sampling = s.snapshot()
+        if s_done or self.sampling.done:
+            self._next()
+
+    def _outlines(self):
+        self.outline_set = LY.outlines(self.ev, self.sampling, self.eye, self.light, self.style, self.line_radius)
+        for name, strokes in self.outline_set.layers.items():
+            if name in self.job.owned_layers():
+                self.layers[name] = strokes
+        self._next()
+
+    def _region(self):
+        regions = [r.region for r in self.job.requests if r.kind == PLACE_STROKES]
+        return regions[0] if regions else None
+
+    def _layer(self, name, strokes):
+        self.layers.setdefault(name, []).extend(strokes)
+        self._next()
+
+    def _hatching(self):
+        self._layer(STYLE_LAYERS["hatching"], LY.hatching(self.ev, self.sampling, self.eye, self.light, self.style,
+                                                          self.rng, self.line_radius, self._region()))
+
+    def _cross_hatching(self):
+        self._layer(STYLE_LAYERS["hatching"], LY.hatching(self.ev, self.sampling, self.eye, self.light, self.style,
+                                                          self.rng, self.line_radius, self._region(), cross=True))
+
+    def _chains(self):
+        self._layer(STYLE_LAYERS["chains"], LY.chains(self.ev, self.sampling, self.eye, self.light, self.style,
+                                                      self.rng, self.line_radius, self._region()))
+
+    def _short(self):
+        self._layer(STYLE_LAYERS["short"], LY.short(self.ev, self.sampling, self.eye, self.light, self.style,
+                                                    self.rng, self.line_radius, self._region()))
+
+    def _stipples(self):
+        self._layer(STYLE_LAYERS["stipples"], LY.stipples(self.ev, self.sampling, self.eye, self.light, self.style,
+                                                          self.rng, self.line_radius, self._region()))
+
+    def _single(self):
+        cursor = [r.cursor for r in self.job.requests if r.kind == SINGLE_STROKE][0]
+        stroke = LY.single_stroke(self.ev, self.sampling, self.eye, self.style, self.line_radius, cursor,
+                                  self.job.seed)
+        if stroke is None:
+            self.warnings.append("the start point is not near the surface: no stroke")
+        self._layer(SINGLE_LAYER, [stroke] if stroke is not None else [])
+
+    # --- results ----------------------------------------------------------------------
+    def progress(self):
+        """The progress figures now (the fraction never goes down)."""
+        n = len(self.stages)
+        strokes = [s for s in self.stages if s not in SHARES]
+
+        def share(s):
+            return SHARES.get(s, SHARES["strokes"] / max(len(strokes), 1))
+        done_shares = sum(share(s) for s in self.completed)
+        if self.stage == "sampling" and self.sampling is not None:
+            done_shares += share("sampling") * self._sampled()
+        self._fraction = max(self._fraction, min(1.0, done_shares / sum(share(s) for s in self.stages)))
+        outs = self.sampling.outlines if self.sampling is not None else []
+        return Progress(fraction=self._fraction, stage=self.stage,
+                        stage_index=min(self.at, n), stages=n,
+                        iterations=self.sampling.progress.get("iterations", 0) if self.sampling is not None else 0,
+                        outlines=len(outs), outline_length=float(sum(o.length for o in outs)),
+                        seconds=self._seconds)
+
+    def _sampled(self):
+        """The share of the sampling done: the blackboard's seeds taken so far."""
+        p = self.sampling.progress
+        return p["seeds_taken"] / p["seeds"] if p.get("seeds") else 0.0
+
+    def result(self):
+        """What is made so far as a :class:`Result` (strokes, the layers the job owns and
+        adds to, progress, warnings)."""
+        j = self.job
+        out = StrokeSet()
+        owned = j.owned_layers()
+        if self.outline_set is None and self.sampling is not None and "outlines" in self.stages:
+            # still tracing: the outlines found so far as they are (hidden lines go at the end)
+            r = LY.radius(self.style, self.line_radius)
+            for name, strokes in StrokeSet.from_outlines(self.sampling.outlines, r).layers.items():
+                if name in owned:
+                    out.layers[name] = strokes
+        for name, strokes in self.layers.items():
+            out.layers[name] = list(strokes)
+        return Result(out, owned, j.appended_layers(), self.progress(), list(self.warnings),
+                      done=self.finished and not self.stopping, stopped=self.stopping)

@@ -1,0 +1,121 @@
+"""What to illustrate: a :class:`Job` (a compiled model, a view, a light, a style, the
+requests, a seed and the sampling settings), plain data checked once, and the layers
+each request draws."""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..agents import Region, Settings
+from ..blackboard.view import View
+from ..model import Evaluator
+from ..strokes.data import LAYER_OF_KIND
+from ..strokes.style import Style
+
+OUTLINES, PLACE_STROKES, SINGLE_STROKE, FIND_FEATURES = REQUESTS = (
+    "OUTLINES", "PLACE_STROKES", "SINGLE_STROKE", "FIND_FEATURES")
+# the stroke layers each style switch draws on (strokes.data.LAYERS)
+STYLE_LAYERS = {"hatching": "Hatching", "chains": "Chains", "short": "Short Strokes", "stipples": "Stipples"}
+SINGLE_LAYER = "Single Strokes"
+
+
+class JobError(ValueError):
+    """A job that cannot be illustrated; the message names what is wrong."""
+
+
+@dataclass(frozen=True)
+class Request:
+    """One of MASSRIS's Table 1 requests: trace the feature outlines (OUTLINES), find
+    features in a region for more detail (FIND_FEATURES), place the style's strokes in a
+    region (PLACE_STROKES), or one stroke from a point near the surface (SINGLE_STROKE,
+    from ``cursor``). No region: the whole model."""
+    kind: str
+    region: Region = None
+    cursor: tuple = None
+
+    def check(self):
+        if self.kind not in REQUESTS:
+            raise JobError(f"unknown request {self.kind!r}; one of {', '.join(REQUESTS)}")
+        if self.region is not None and not isinstance(self.region, Region):
+            raise JobError(f"a request's region must be an agents.Region, got {type(self.region).__name__}")
+        if self.kind == SINGLE_STROKE:
+            c = np.asarray(self.cursor if self.cursor is not None else (np.nan,) * 3, float)
+            if c.shape != (3,) or not np.all(np.isfinite(c)):
+                raise JobError(f"a single stroke needs a start point of three finite numbers, got {self.cursor!r}")
+
+
+@dataclass(frozen=True)
+class Job:
+    """Everything an illustration depends on. ``model``: a compiled model (an
+    model.Evaluator) or a model.Model; ``view``: where the eye is (blackboard.View with
+    an eye); ``light``: a direction towards the light; ``seconds``: a time budget for
+    the sampling (None: run to the end; a budget makes the outlines depend on the
+    machine's speed)."""
+    model: object
+    view: View
+    light: tuple
+    style: Style = field(default_factory=Style)
+    requests: tuple = (Request(OUTLINES),)
+    seed: int = 0
+    settings: Settings = field(default_factory=Settings)
+    seconds: float = None
+
+    def checked(self):
+        """This job with its model compiled, or JobError naming the first bad part."""
+        if not self.requests:
+            raise JobError("nothing requested")
+        for r in self.requests:
+            if not isinstance(r, Request):
+                raise JobError(f"requests must be pipeline.Request values, got {type(r).__name__}")
+            r.check()
+        if not isinstance(self.view, View) or self.view.eye is None:
+            raise JobError("the view must be a blackboard.View with an eye position")
+        if not np.all(np.isfinite(self.view.eye)):
+            raise JobError(f"the eye must be three finite numbers, got {self.view.eye.tolist()}")
+        L = np.asarray(self.light, float)
+        if L.shape != (3,) or not np.all(np.isfinite(L)) or not np.linalg.norm(L) > 0:
+            raise JobError(f"the light direction must be three finite numbers, not all zero, got {self.light!r}")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or not 0 <= self.seed < 2**63:
+            raise JobError(f"seed must be a whole number from 0, got {self.seed!r}")
+        if self.seconds is not None and not (isinstance(self.seconds, (int, float)) and self.seconds > 0
+                                             and np.isfinite(self.seconds)):
+            raise JobError(f"the time budget must be a positive number of seconds, got {self.seconds!r}")
+        try:
+            self.style.check()
+            self.settings.check()
+        except ValueError as e:
+            raise JobError(str(e)) from None
+        ev = self.model if isinstance(self.model, Evaluator) else Evaluator(self.model)
+        return Job(ev, self.view, tuple(L / np.linalg.norm(L)), self.style, tuple(self.requests), int(self.seed),
+                   self.settings, self.seconds)
+
+    @property
+    def kinds(self):
+        return tuple(r.kind for r in self.requests)
+
+    def wants_outlines(self):
+        """Whether the agents trace outlines: for the outline layers, or for the strokes
+        started from them."""
+        return bool({OUTLINES, FIND_FEATURES} & set(self.kinds)) or (PLACE_STROKES in self.kinds and self.style.chains)
+
+    def stroke_switches(self):
+        """The style's stroke layers a PLACE_STROKES request draws (hatching when the
+        style names none)."""
+        if PLACE_STROKES not in self.kinds:
+            return ()
+        on = tuple(k for k in ("hatching", "chains", "short", "stipples") if getattr(self.style, k))
+        return on or ("hatching",)
+
+    def owned_layers(self):
+        """The layers this job's result replaces as a whole, even where it draws nothing
+        on one (running a request again replaces what it made): the outline layers of an
+        outline request, the layers of the style's strokes a PLACE_STROKES request draws.
+        Every other layer is left as it is."""
+        out = []
+        if {OUTLINES, FIND_FEATURES} & set(self.kinds):
+            out += [LAYER_OF_KIND[k] for k in self.settings.kinds]
+        out += [STYLE_LAYERS[k] for k in self.stroke_switches()]
+        return tuple(dict.fromkeys(out))
+
+    def appended_layers(self):
+        """The layers this job's result adds to (a single stroke joins the ones before)."""
+        return (SINGLE_LAYER,) if SINGLE_STROKE in self.kinds else ()

@@ -1,0 +1,169 @@
+"""Step an illustration (pipeline.Illustration) on a worker thread and publish its
+results, so that an interactive caller (Blender's modal timer) never waits for a step:
+not for the initialisation (polygonising a big model), a system iteration or a layer.
+
+The worker calls ``illustration.step()`` until the illustration is finished, and after
+every step publishes ``illustration.result()``; the caller reads the latest at any time
+(:meth:`Runner.latest`) without touching the illustration. :meth:`Runner.stop` asks for
+an early finish (the illustration keeps what it made and removes the hidden lines of
+the outlines traced so far, on the worker); :meth:`Runner.cancel` asks the worker to
+end after its current step with nothing more. Both are followed by :meth:`Runner.join`,
+which waits a bounded time and raises :class:`RunnerError` saying so if the worker did
+not end. Only the worker touches the illustration until it has ended. An exception on
+the worker is kept and raised again by :meth:`Runner.check` in the caller's thread.
+
+Everything the worker runs is numpy-only; no Blender data is touched here.
+
+While a worker runs, the interpreter's thread switch interval is cut to
+``SWITCH_INTERVAL`` (0.2 ms instead of 5 ms): Blender's main thread takes the GIL for
+every Python callback of its UI (panels, polls, timers, hundreds per redraw), and each
+take waits up to one switch interval for the worker to let go. It is restored when the
+last worker ends, however it ends. On Linux the worker thread also runs at a lower
+priority (nice 10) so that the UI's drawing threads win the CPU.
+
+A test hook holds a worker between steps (:data:`HOLD`), so that tests of stopping and
+of the UI during a run do not depend on how fast a machine is.
+"""
+import os
+import sys
+import threading
+
+SWITCH_INTERVAL = 2e-4
+WORKER_NICE = 10             # on Linux the worker yields the CPU to Blender's UI threads
+JOIN_SECONDS = 30.0          # how long stopping waits for the worker's current step
+_active = [0, None]          # running workers, the switch interval to restore
+_active_lock = threading.Lock()
+
+
+class RunnerError(RuntimeError):
+    """The worker failed, or did not end when asked."""
+
+
+class Hold:
+    """Test hook: with ``after`` set to a number of steps, every worker started from then
+    on waits after that many steps until :meth:`release` (or a stop or cancel)."""
+
+    def __init__(self):
+        self.after = None
+        self.reached = threading.Event()
+        self._go = threading.Event()
+
+    def arm(self, after):
+        self.after = after
+        self.reached.clear()
+        self._go.clear()
+
+    def release(self):
+        self.after = None
+        self._go.set()
+
+    def wait(self, steps, stop):
+        if self.after is None or steps != self.after:
+            return
+        self.reached.set()
+        while not self._go.wait(0.05) and not stop.is_set():
+            pass
+
+
+HOLD = Hold()
+
+
+def _enter():
+    with _active_lock:
+        if _active[0] == 0:
+            _active[1] = sys.getswitchinterval()
+            sys.setswitchinterval(min(SWITCH_INTERVAL, _active[1]))
+        _active[0] += 1
+
+
+def _leave():
+    with _active_lock:
+        _active[0] -= 1
+        if _active[0] == 0:
+            sys.setswitchinterval(_active[1])
+
+
+class Runner:
+    def __init__(self, illustration):
+        self.illustration = illustration
+        self._stop = threading.Event()
+        self._cancel = threading.Event()
+        self._lock = threading.Lock()
+        self._error = None
+        self._latest = None
+        self._steps = 0
+        self._thread = threading.Thread(target=self._work, name="blobtree-ink-worker", daemon=True)
+        self._started = False
+
+    def start(self):
+        _enter()
+        try:
+            self._thread.start()
+        except BaseException:
+            _leave()
+            raise
+        self._started = True
+        return self
+
+    def _work(self):
+        try:
+            if sys.platform.startswith("linux"):     # a thread id is a process id only on Linux
+                os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), WORKER_NICE)
+            self._loop()
+        except BaseException as e:          # handed to the caller by check()
+            self._error = e
+        finally:
+            _leave()
+
+    def _loop(self):
+        ill = self.illustration
+        while not self._cancel.is_set():
+            if self._stop.is_set():
+                ill.stop()
+            going = ill.step()
+            self._steps += 1
+            self._publish()
+            if not going:
+                return
+            HOLD.wait(self._steps, self._stop)
+
+    def _publish(self):
+        res = self.illustration.result()
+        with self._lock:
+            self._latest = res
+
+    def latest(self):
+        """The latest published result (None before the first step ends)."""
+        with self._lock:
+            return self._latest
+
+    @property
+    def steps(self):
+        return self._steps
+
+    def stop(self):
+        """Ask for an early finish: the worker keeps what was made and draws the visible
+        outlines traced so far, then ends (follow with :meth:`join`)."""
+        self._stop.set()
+
+    def cancel(self):
+        """Ask the worker to end after its current step, with nothing more."""
+        self._stop.set()
+        self._cancel.set()
+
+    def join(self, seconds=JOIN_SECONDS):
+        """Wait for the worker to end; RunnerError if it is still running after that long."""
+        if self._started:
+            self._thread.join(seconds)
+        if self._thread.is_alive():
+            raise RunnerError(f"the illustration's worker did not end within {seconds:g} s "
+                              f"(it is finishing a step on the '{self.illustration.stage}' stage)")
+
+    @property
+    def finished(self):
+        return self._started and not self._thread.is_alive()
+
+    def check(self):
+        """Raise the worker's exception, if it had one."""
+        if self._error is not None:
+            raise RunnerError(f"the illustration failed: {self._error!r}") from self._error
