@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model.curvature import curvature
+from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..agents import steering as st
 
@@ -165,13 +166,10 @@ def nearest_distance(P, Q, rows=512):
     return out
 
 
-def _onto(ev, P, steps=4):
-    """Attractor correction onto f = iso: Newton steps along the gradient."""
-    f, g = ev.field_grad(P)
-    for _ in range(steps):
-        gg = np.einsum("ij,ij->i", g, g)
-        ok = gg > 1e-300
-        P = P.copy()
-        P[ok] -= ((f[ok] - ev.iso) / gg[ok])[:, None] * g[ok]
-        f, g = ev.field_grad(P)
-    return P, f, g
+ONTO_STEPS = 4             # Newton steps of the attractor correction after each move
+
+
+def _onto(ev, P):
+    """Attractor correction onto f = iso (Smarticles: F = (f(x) - iso) grad f(x)), as
+    Newton steps along the gradient (model.projection, the agents' projection)."""
+    return project(ev, P, ONTO_STEPS)
