@@ -11,7 +11,7 @@ import json
 
 import bpy
 
-from . import preview
+from . import changes
 from .sockets import SOCKET
 
 TREE = "BlobTreeInkNodeTree"
@@ -22,7 +22,7 @@ def on_edit(self, context):
     """Property update callback: the tree changed, schedule its preview."""
     tree = self.id_data
     if isinstance(tree, bpy.types.NodeTree) and tree.bl_idname == TREE:
-        preview.schedule(tree)
+        changes.schedule(tree)
 
 
 class BlobTreeNode:

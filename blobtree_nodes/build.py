@@ -7,7 +7,7 @@ import gc
 import json
 
 from ..model import nodes as N
-from . import preview, props
+from . import changes, props
 from .base import new_input
 from .nodes import LABEL, idname, suspend_socket_updates
 
@@ -21,7 +21,7 @@ def build_tree(tree, model):
     # Blender's whole object graph again and again: pause it while building
     was_enabled = gc.isenabled()
     gc.disable()
-    with preview.hold():                  # one preview schedule for the whole import
+    with changes.hold():                  # one preview schedule for the whole import
         try:
             with suspend_socket_updates():
                 made = _build(tree, model)

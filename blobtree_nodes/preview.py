@@ -1,89 +1,22 @@
 """The live preview: a polygonised mesh of the tree's model, rebuilt shortly after
-edits stop (debounced with a timer, never on every step of a slider drag), kept in its
-own collection, one object per tree.
-
-The pending rebuilds are module state keyed by tree name (not stored on Blender data
-or on Python wrappers). A broken tree keeps its previous preview and shows its error
-on the offending node.
+edits stop (blobtree_nodes.changes debounces them), kept in its own collection, one
+object per tree. A broken tree keeps its previous preview and shows its error on the
+offending node.
 """
-import contextlib
-import time
-
 import bpy
+import numpy as np
 
-DELAY = 0.35                     # seconds of quiet before a rebuild
+from ..blackboard.polygonise import GridError, polygonise
+from ..model import Evaluator
+from . import changes
+from .compile import tree_model_or_none
+
 COLLECTION = "BlobTree Ink Previews"
-
-_pending = {}                    # tree name -> monotonic time the rebuild is due
-_edits = {}                      # tree name -> number of edits seen (a running illustration stops on change)
 stats = {"rebuilds": 0}          # for tests and the UI
-
-
-def edits(tree):
-    return _edits.get(tree.name, 0)
-
-
-_held = []                       # trees whose edits are being gathered (see hold)
-
-
-@contextlib.contextmanager
-def hold():
-    """Gather edits (e.g. the thousands an importer makes) and schedule each tree's
-    preview once at the end, instead of once per property write."""
-    _held.append(set())
-    try:
-        yield
-    finally:
-        names = _held.pop()
-        for name in names:
-            tree = bpy.data.node_groups.get(name)
-            if tree is not None:
-                schedule(tree)
-
-
-def schedule(tree, delay=DELAY):
-    if _held:
-        _held[-1].add(tree.name)
-        return
-    _edits[tree.name] = _edits.get(tree.name, 0) + 1
-    _pending[tree.name] = time.monotonic() + delay
-    if not bpy.app.timers.is_registered(_tick):
-        bpy.app.timers.register(_tick, first_interval=delay)
-
-
-def pending():
-    return dict(_pending)
-
-
-def _tick():
-    now = time.monotonic()
-    run_due(now)
-    if not _pending:
-        return None
-    return max(0.02, min(_pending.values()) - now)
-
-
-def run_due(now=None):
-    """Rebuild every preview whose quiet period is over; returns the trees rebuilt."""
-    now = time.monotonic() if now is None else now
-    done = []
-    for name, due in list(_pending.items()):
-        if due > now:
-            continue
-        del _pending[name]
-        tree = bpy.data.node_groups.get(name)
-        if tree is not None and tree.bl_idname == "BlobTreeInkNodeTree":
-            if rebuild(tree):
-                done.append(name)
-    return done
-
 
 def rebuild(tree):
     """Polygonise the tree's model into its preview object. False for a broken tree
     (the old preview stays) or when the preview is switched off (it is removed)."""
-    from ..blackboard.polygonise import GridError, polygonise
-    from ..model import Evaluator
-    from .compile import tree_model_or_none
     if not tree.show_preview:
         remove(tree)
         return False
@@ -142,7 +75,6 @@ def remove(tree):
 
 def write_mesh(me, vertices, quads):
     """Replace a mesh's geometry with quads in bulk (foreach_set, no Python loops)."""
-    import numpy as np
     me.clear_geometry()
     nv, nf = len(vertices), len(quads)
     me.vertices.add(nv)
@@ -159,14 +91,12 @@ def write_mesh(me, vertices, quads):
 def _after_undo(*_args):
     for tree in bpy.data.node_groups:
         if tree.bl_idname == "BlobTreeInkNodeTree" and tree.show_preview:
-            schedule(tree)
+            changes.schedule(tree)
 
 
 @bpy.app.handlers.persistent
 def _after_load(*_args):
-    # another file: its trees may have the names of the old file's trees
-    _pending.clear()
-    _edits.clear()
+    changes.forget()
 
 
 HANDLERS = ((bpy.app.handlers.undo_post, _after_undo), (bpy.app.handlers.redo_post, _after_undo),
@@ -174,6 +104,7 @@ HANDLERS = ((bpy.app.handlers.undo_post, _after_undo), (bpy.app.handlers.redo_po
 
 
 def register():
+    changes.on_due(rebuild)
     for lst, fn in HANDLERS:
         if fn not in lst:
             lst.append(fn)
@@ -183,6 +114,5 @@ def unregister():
     for lst, fn in HANDLERS:
         if fn in lst:
             lst.remove(fn)
-    if bpy.app.timers.is_registered(_tick):
-        bpy.app.timers.unregister(_tick)
-    _pending.clear()
+    changes.stop()
+    changes.on_due(None)

@@ -1,11 +1,11 @@
 """The BlobTree node tree type and its settings."""
 import bpy
 
+from . import changes
 from .settings import BlobTreeInkSettings
 
 def _schedule(tree):
-    from . import preview
-    preview.schedule(tree)
+    changes.schedule(tree)
 
 
 class BlobTreeNodeTree(bpy.types.NodeTree):

@@ -22,7 +22,7 @@ import bpy
 import numpy as np
 
 from .. import pipeline as PL
-from ..blobtree_nodes import preview
+from ..blobtree_nodes import changes
 from ..blobtree_nodes.compile import TreeError, compile_tree
 from ..blobtree_nodes.settings import style_of
 from ..grease_pencil.writer import ink_object, write
@@ -63,7 +63,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         request = PL.Request(self.request, region, cursor if self.request == "SINGLE_STROKE" else None)
         job = jobs.job(ev, context.scene, style_of(ink), jobs.tree_settings(ink), (request,), ink.seed, eye=eye)
         self.illustration = PL.Illustration(job)
-        self.edits0 = preview.edits(tree)
+        self.edits0 = changes.edits(tree)
         self.obj_name = ink_object(f"{model.name} Ink").name
         self.frame = context.scene.frame_current
         self.t_start = time.perf_counter()
@@ -121,7 +121,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return {"PASS_THROUGH"}
         t0 = time.perf_counter()
         tree = bpy.data.node_groups.get(self.tree_key)
-        if self.stopping is None and (tree is None or preview.edits(tree) != self.edits0):
+        if self.stopping is None and (tree is None or changes.edits(tree) != self.edits0):
             self.report({"WARNING"}, "the BlobTree changed: illustration stopped")
             self.stopping = "tree edited"
             self.runner.stop()

@@ -2,7 +2,7 @@
 import bpy
 from bpy_extras.io_utils import ImportHelper
 
-from ..blobtree_nodes import preview
+from ..blobtree_nodes import changes, preview
 from ..blobtree_nodes.build import build_tree
 from ..model import ModelError, load
 from .common import TREE, show_in_node_editor
@@ -25,7 +25,7 @@ class BLOBTREE_INK_OT_import_json(bpy.types.Operator, ImportHelper):
         except ModelError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        with preview.hold():                      # the whole import is one edit of the tree
+        with changes.hold():                      # the whole import is one edit of the tree
             tree = bpy.data.node_groups.new(model.name, TREE)
             tree.use_fake_user = True             # saved with the file though nothing uses it
             try:
@@ -38,7 +38,7 @@ class BLOBTREE_INK_OT_import_json(bpy.types.Operator, ImportHelper):
             if bpy.app.background:          # no timers tick there: build it now
                 preview.rebuild(tree)
             else:                           # the UI builds it right after the import
-                preview.schedule(tree, delay=0.05)
+                changes.schedule(tree, delay=0.05)
         show_in_node_editor(context, tree)
         self.report({"INFO"}, f"Imported '{tree.name}' ({len(tree.nodes)} nodes)")
         return {"FINISHED"}

@@ -245,17 +245,18 @@ def test_linked_objects_drive_vectors(ext):
 
 def test_preview_rebuilds_once_after_a_burst_of_edits(ext):
     preview = mod(ext, "blobtree_nodes.preview")
+    changes = mod(ext, "blobtree_nodes.changes")
     t, (diff, body, belly, neck, stalk, bite) = pear_by_hand()
-    preview.run_due(float("inf"))              # settle whatever building the tree scheduled
+    changes.run_due(float("inf"))              # settle whatever building the tree scheduled
     before = preview.stats["rebuilds"]
     for i in range(20):                        # a slider drag: many quick edits
         belly.radius = 1.9 + 0.01 * i
-    assert list(preview.pending()) == [t.name]
-    assert preview.run_due() == []             # not yet: the quiet period has not passed
+    assert list(changes.pending()) == [t.name]
+    assert changes.run_due() == []             # not yet: the quiet period has not passed
     assert preview.stats["rebuilds"] == before
-    assert preview.run_due(float("inf")) == [t.name]
+    assert changes.run_due(float("inf")) == [t.name]
     assert preview.stats["rebuilds"] == before + 1
-    assert preview.run_due(float("inf")) == []
+    assert changes.run_due(float("inf")) == []
     obj = t.preview_object
     assert obj is not None and len(obj.data.polygons) > 100
     assert obj.users_collection[0].name == preview.COLLECTION
@@ -267,17 +268,18 @@ def test_preview_rebuilds_once_after_a_burst_of_edits(ext):
     assert np.median(np.abs(ev.field(co) - 0.5)) < 1e-3
     # rebuilding again reuses the object: never a duplicate
     neck.radius = 1.3
-    preview.run_due(float("inf"))
+    changes.run_due(float("inf"))
     assert len([o for o in bpy.data.objects if o.name.startswith("Pear Preview")]) == 1
 
 
 def test_broken_tree_keeps_its_last_preview(ext):
     preview = mod(ext, "blobtree_nodes.preview")
+    changes = mod(ext, "blobtree_nodes.changes")
     t, (diff, body, belly, neck, stalk, bite) = pear_by_hand()
-    preview.run_due(float("inf"))
+    changes.run_due(float("inf"))
     n_before = len(t.preview_object.data.polygons)
     belly.radius = -1.0
-    preview.run_due(float("inf"))
+    changes.run_due(float("inf"))
     assert len(t.preview_object.data.polygons) == n_before
     assert belly.error == "Radius must be > 0, got -1"
 
@@ -298,11 +300,12 @@ def test_save_and_reload_keeps_the_tree(ext, example, tmp_path):
 
 def test_undo_and_redo_schedule_previews(ext):
     preview = mod(ext, "blobtree_nodes.preview")
+    changes = mod(ext, "blobtree_nodes.changes")
     t, _ = pear_by_hand()
-    preview.run_due(float("inf"))
-    assert not preview.pending()
+    changes.run_due(float("inf"))
+    assert not changes.pending()
     preview._after_undo()
-    assert t.name in preview.pending()
+    assert t.name in changes.pending()
     assert preview._after_undo in bpy.app.handlers.undo_post and preview._after_undo in bpy.app.handlers.redo_post
 
 
@@ -327,10 +330,11 @@ def test_export_of_a_broken_tree_fails_and_keeps_the_old_file(tmp_path):
 
 def test_an_import_schedules_its_preview_once_not_per_property(ext, example):
     preview = mod(ext, "blobtree_nodes.preview")
+    changes = mod(ext, "blobtree_nodes.changes")
     bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
     tree = bpy.data.node_groups["heart"]
     assert len(tree.nodes) == 77                       # hundreds of property writes went into it
     # the import's hundreds of property writes count as one edit; Blender's own tree
     # updates after the operator add a couple more
-    assert preview.edits(tree) <= 3
-    assert "heart" in preview.pending()
+    assert changes.edits(tree) <= 3
+    assert "heart" in changes.pending()

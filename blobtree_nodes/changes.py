@@ -1,0 +1,93 @@
+"""Edits of BlobTree node trees, counted and debounced: an edit schedules the tree's
+preview to be rebuilt once edits have stopped for DELAY seconds (a timer; never on
+every step of a slider drag), and a running illustration stops when its tree's edit
+count moves. The state is module state keyed by tree name (not stored on Blender data
+or on Python wrappers). The rebuild itself is blobtree_nodes.preview's, which hands it
+in when it registers (:func:`on_due`)."""
+import contextlib
+import time
+
+import bpy
+
+DELAY = 0.35                     # seconds of quiet before a rebuild
+COLLECTION = "BlobTree Ink Previews"
+
+_pending = {}                    # tree name -> monotonic time the rebuild is due
+_edits = {}                      # tree name -> number of edits seen (a running illustration stops on change)
+_rebuild = []                    # what a due tree goes to: preview.rebuild, set when it registers
+
+
+def edits(tree):
+    return _edits.get(tree.name, 0)
+
+
+_held = []                       # trees whose edits are being gathered (see hold)
+
+
+@contextlib.contextmanager
+def hold():
+    """Gather edits (e.g. the thousands an importer makes) and schedule each tree's
+    preview once at the end, instead of once per property write."""
+    _held.append(set())
+    try:
+        yield
+    finally:
+        names = _held.pop()
+        for name in names:
+            tree = bpy.data.node_groups.get(name)
+            if tree is not None:
+                schedule(tree)
+
+
+def schedule(tree, delay=DELAY):
+    if _held:
+        _held[-1].add(tree.name)
+        return
+    _edits[tree.name] = _edits.get(tree.name, 0) + 1
+    _pending[tree.name] = time.monotonic() + delay
+    if not bpy.app.timers.is_registered(_tick):
+        bpy.app.timers.register(_tick, first_interval=delay)
+
+
+def pending():
+    return dict(_pending)
+
+
+def _tick():
+    now = time.monotonic()
+    run_due(now)
+    if not _pending:
+        return None
+    return max(0.02, min(_pending.values()) - now)
+
+
+def run_due(now=None):
+    """Rebuild every preview whose quiet period is over; returns the trees rebuilt."""
+    now = time.monotonic() if now is None else now
+    done = []
+    for name, due in list(_pending.items()):
+        if due > now:
+            continue
+        del _pending[name]
+        tree = bpy.data.node_groups.get(name)
+        if tree is not None and tree.bl_idname == "BlobTreeInkNodeTree" and _rebuild:
+            if _rebuild[0](tree):
+                done.append(name)
+    return done
+
+
+def on_due(rebuild):
+    """Hand due trees to ``rebuild(tree) -> bool`` (None: nobody)."""
+    _rebuild[:] = [] if rebuild is None else [rebuild]
+
+
+def forget():
+    """Another file was loaded: its trees may have the old file's names."""
+    _pending.clear()
+    _edits.clear()
+
+
+def stop():
+    if bpy.app.timers.is_registered(_tick):
+        bpy.app.timers.unregister(_tick)
+    _pending.clear()
