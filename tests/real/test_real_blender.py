@@ -99,3 +99,20 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
         shutil.copy(os.path.join(out, name), png)
         img = read_png(png)
         assert img.std() > 10 and len(np.unique(img.reshape(-1, 3), axis=0)) > 50
+
+
+def test_real_ui_modal_runs_draw_what_the_background_path_draws(user_dir, tmp_path):
+    """Per style: the operator invoked in the UI (its pipeline on the worker thread) and
+    run through execute (the background path) draw the same strokes, bit for bit."""
+    out = str(tmp_path / "ui")
+    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
+                "--script", os.path.join(REPO, "tests", "real", "ui", "same_strokes.py"),
+                "--out", out, "--user", user_dir, "--timeout", "300", timeout=400)
+    facts = json.load(open(os.path.join(out, "facts.json")))
+    assert "error" not in facts, facts.get("error")
+    for preset in facts["presets"]:
+        modal, execd = (np.load(os.path.join(out, f"{w}-{preset}.npz")) for w in ("modal", "exec"))
+        assert sorted(modal.files) == sorted(execd.files) and len(modal.files) >= 8, preset
+        for k in modal.files:
+            np.testing.assert_array_equal(modal[k], execd[k], err_msg=f"{preset} {k}")
+        assert facts["counts"][f"modal-{preset}"]["Silhouette"] > 0
