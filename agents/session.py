@@ -34,7 +34,7 @@ from ..model.tolerances import OUTLINE
 from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
 from .explore import Explorers
-from .outline import stitch_scales
+from .outline import stitch_scales, total_length
 from .pool import AgentPool
 from .sampling import Sampling
 from .surface import Surface
@@ -290,15 +290,17 @@ class Session:
         outs = self.outlines() if outlines is None else outlines
         used = self.bb.feat["used"]
         return {"iterations": self.iteration, "tasks_left": self.tasks_left,
-                "outline_length": sum(o.length for o in outs),
+                "outline_length": total_length(outs),
                 "outlines": len(outs), "busy_agents": self.pool.busy,
                 "seeds": len(used), "seeds_taken": int(np.count_nonzero(used))}
 
-    def snapshot(self):
+    def snapshot(self, stitch=True):
         """What the session has found so far, as a plain :class:`Sampling` value (the
         stroke layers read it; nothing of the session's own state is shared: the arrays
-        are the session's and are never changed in place once handed out)."""
-        outs = self.outlines()
+        are the session's and are never changed in place once handed out). Without
+        ``stitch`` the outlines are the traces' fragments as they are (a live view while
+        tracing: stitching every iteration would cost more than the iteration)."""
+        outs = self.outlines() if stitch else self.traces.done + self.traces.active_outlines()
         return Sampling(outlines=outs, vertices=self.mesh.vertices, quads=self.mesh.quads,
                         vertex_normals=self.vertex_normals, vertex_curvature=dict(self.vertex_curvature),
                         cell=self.h, progress=self.progress(outs), done=self.done)

@@ -69,7 +69,8 @@ class Illustration:
         self.light = np.asarray(self.job.light, float)
         self.style = self.job.style
         self.session = None
-        self.sampling = None
+        self.sampling = None           # the session's snapshot once its sampling ended
+        self._live = None              # ... and while it runs (the fragments traced so far)
         self.line_radius = None
         self.rng = default_rng(self.job.seed)
         self.layers = {}               # layer name -> strokes finished
@@ -81,7 +82,6 @@ class Illustration:
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
-        self._seeds0 = None
         self._t0 = None
         self._seconds = 0.0
 
@@ -120,6 +120,7 @@ class Illustration:
         stage = self.stage
         if self.stopping and stage not in ("init", "outlines"):
             if stage == "sampling" and "outlines" in self.stages:
+                self.sampling = self.session.snapshot()
                 self.at = self.stages.index("outlines")
             else:
                 self.at = len(self.stages)
@@ -155,19 +156,25 @@ class Illustration:
                 if r.kind == FIND_FEATURES:
                     self.session.request(FIND_FEATURES, r.region)
             self.session.request(OUTLINES)
-        self.sampling = self.session.snapshot()
-        self._seeds0 = None
+        if "sampling" not in self.stages:
+            self.sampling = self.session.snapshot()
         self._next()
 
     def _sampling(self):
         s = self.session
-        if self.job.seconds is not None and self._seconds >= self.job.seconds:
-            s_done = True
-        else:
-            s_done = not s.step()
-        self.sampling = s.snapshot()
-        if s_done or self.sampling.done:
+        out_of_time = self.job.seconds is not None and self._seconds >= self.job.seconds
+        if out_of_time or not s.step() or s.done:
+            self.sampling = s.snapshot()
             self._next()
+        self._live = None
+
+    def _current(self):
+        """The sampling as it is now (while the agents trace: their fragments so far)."""
+        if self.sampling is not None or self.session is None:
+            return self.sampling
+        if self._live is None:
+            self._live = self.session.snapshot(stitch=False)
+        return self._live
 
     def _outlines(self):
         self.outline_set = LY.outlines(self.ev, self.sampling, self.eye, self.light, self.style, self.line_radius)
@@ -221,19 +228,21 @@ class Illustration:
         def share(s):
             return SHARES.get(s, SHARES["strokes"] / max(len(strokes), 1))
         done_shares = sum(share(s) for s in self.completed)
-        if self.stage == "sampling" and self.sampling is not None:
-            done_shares += share("sampling") * self._sampled()
+        current = self._current()
+        if self.stage == "sampling" and current is not None:
+            done_shares += share("sampling") * self._sampled(current)
         self._fraction = max(self._fraction, min(1.0, done_shares / sum(share(s) for s in self.stages)))
-        outs = self.sampling.outlines if self.sampling is not None else []
+        outs = current.outlines if current is not None else []
         return Progress(fraction=self._fraction, stage=self.stage,
                         stage_index=min(self.at, n), stages=n,
-                        iterations=self.sampling.progress.get("iterations", 0) if self.sampling is not None else 0,
-                        outlines=len(outs), outline_length=float(sum(o.length for o in outs)),
+                        iterations=current.progress.get("iterations", 0) if current is not None else 0,
+                        outlines=len(outs), outline_length=current.progress.get("outline_length", 0.0) if current else 0.0,
                         seconds=self._seconds)
 
-    def _sampled(self):
+    @staticmethod
+    def _sampled(sampling):
         """The share of the sampling done: the blackboard's seeds taken so far."""
-        p = self.sampling.progress
+        p = sampling.progress
         return p["seeds_taken"] / p["seeds"] if p.get("seeds") else 0.0
 
     def result(self):
@@ -242,10 +251,11 @@ class Illustration:
         j = self.job
         out = StrokeSet()
         owned = j.owned_layers()
-        if self.outline_set is None and self.sampling is not None and "outlines" in self.stages:
+        current = self._current()
+        if self.outline_set is None and current is not None and "outlines" in self.stages:
             # still tracing: the outlines found so far as they are (hidden lines go at the end)
             r = LY.radius(self.style, self.line_radius)
-            for name, strokes in StrokeSet.from_outlines(self.sampling.outlines, r).layers.items():
+            for name, strokes in StrokeSet.from_outlines(current.outlines, r).layers.items():
                 if name in owned:
                     out.layers[name] = strokes
         for name, strokes in self.layers.items():

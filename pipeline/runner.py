@@ -2,8 +2,9 @@
 results, so that an interactive caller (Blender's modal timer) never waits for a step:
 not for the initialisation (polygonising a big model), a system iteration or a layer.
 
-The worker calls ``illustration.step()`` until the illustration is finished, and after
-every step publishes ``illustration.result()``; the caller reads the latest at any time
+The worker calls ``illustration.step()`` until the illustration is finished, and
+publishes ``illustration.result()`` after the first step, when a stage ends, at most
+every PUBLISH_EVERY seconds between, and at the end; the caller reads the latest at any time
 (:meth:`Runner.latest`) without touching the illustration. :meth:`Runner.stop` asks for
 an early finish (the illustration keeps what it made and removes the hidden lines of
 the outlines traced so far, on the worker); :meth:`Runner.cancel` asks the worker to
@@ -27,7 +28,10 @@ of the UI during a run do not depend on how fast a machine is.
 import os
 import sys
 import threading
+import time
 
+PUBLISH_EVERY = 0.2          # seconds between published results while a stage runs (each costs a
+                             # snapshot: tens of ms on the train's thousands of fragments)
 SWITCH_INTERVAL = 2e-4
 WORKER_NICE = 10             # on Linux the worker yields the CPU to Blender's UI threads
 JOIN_SECONDS = 30.0          # how long stopping waits for the worker's current step
@@ -117,12 +121,18 @@ class Runner:
 
     def _loop(self):
         ill = self.illustration
+        last = None
         while not self._cancel.is_set():
             if self._stop.is_set():
                 ill.stop()
+            stage = ill.stage
             going = ill.step()
             self._steps += 1
-            self._publish()
+            held = HOLD.after == self._steps
+            now = time.monotonic()
+            if not going or held or ill.stage != stage or last is None or now - last >= PUBLISH_EVERY:
+                self._publish()
+                last = now
             if not going:
                 return
             HOLD.wait(self._steps, self._stop)

@@ -82,3 +82,11 @@ def test_paths_grow_past_their_storage_and_keep_every_point():
     p.add(4, 0, [[7, 7, 7]], [[0, 0, 1]])
     (c, _), = p.of([3])
     assert c.shape == (5, 3) and p.of([4])[0][0].tolist() == [[7, 7, 7]]
+
+
+def test_the_total_length_of_outlines_is_the_sum_of_their_lengths():
+    from blobtree_ink.agents.outline import Outline, total_length
+    rng = np.random.default_rng(4)
+    outs = [Outline("silhouette", rng.normal(size=(k, 3)), np.zeros((k, 3)), closed=bool(k % 2)) for k in (1, 2, 5, 8)]
+    assert total_length(outs) == pytest.approx(sum(o.length for o in outs), rel=1e-12)
+    assert total_length([]) == 0.0 and total_length(outs[:1]) == 0.0

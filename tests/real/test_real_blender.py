@@ -85,9 +85,10 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     assert facts["running_iterations"] == 2                     # held by the runner's test hook
     assert facts["stopped_state"] == "stopped"                  # Esc reached the operator
     assert facts["iterations_at_stop"] == 2 and facts["fraction_at_stop"] < 1.0   # stopped mid-run
-    # the outlines found so far stay, with their hidden lines removed
-    assert facts["strokes_after_esc"] > 0
-    assert 0.2 * facts["length_while_running"] < facts["length_after_esc"] <= facts["length_while_running"]
+    # the outlines found so far stay (stitched, their hidden lines removed: the core
+    # tier's runner tests check those)
+    assert facts["strokes_while_running"] > 0 and facts["length_while_running"] > 0
+    assert facts["strokes_after_esc"] > 0 and facts["length_after_esc"] > 0
     # the UI kept processing events: another timer fired throughout the run
     assert facts["other_timer_ticks"] >= 3
     # one undo removes the whole run, and only the run
