@@ -8,14 +8,11 @@ import os
 import sys
 import time
 
-import addon_utils
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from uistep import Steps, record  # noqa: E402
+from uistep import EXT, Steps, record, start_with_example  # noqa: E402
 
-EXT = "bl_ext.user_default.blobtree_ink"
-REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 ticks = []
 
 
@@ -45,17 +42,7 @@ def length_of(name):
 
 
 def run():
-    yield 1.0
-    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
-    addon_utils.enable(EXT, default_set=True)
-    win = bpy.context.window_manager.windows[0]
-    for obj in list(bpy.data.objects):
-        if obj.type == "MESH":
-            bpy.data.objects.remove(obj)
-    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = [r for r in view3d.regions if r.type == "WINDOW"][0]
-    with bpy.context.temp_override(window=win, area=view3d, region=region):
-        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "heart.json"), preview=False)
+    win, view3d, region = yield from start_with_example("heart")
     tree = bpy.data.node_groups["heart"]
     tree.ink.grid_resolution = 20
     bpy.ops.ed.undo_push(message="imported")

@@ -5,7 +5,6 @@ to compare: one pipeline, the same strokes."""
 import os
 import sys
 
-import addon_utils
 import bpy
 import numpy as np
 
@@ -13,9 +12,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 sys.path.insert(0, os.path.join(REPO, "tests"))
 import strokes_match as SM  # noqa: E402
-from uistep import OUT, Steps, record  # noqa: E402
+from uistep import EXT, OUT, Steps, record, start_with_example  # noqa: E402
 
-EXT = "bl_ext.user_default.blobtree_ink"
 PRESETS = ("STIPPLED", "HATCHED", "SILHOUETTE_SHADING")
 
 
@@ -26,18 +24,8 @@ def save(name):
 
 
 def run():
-    yield 1.0
-    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
-    addon_utils.enable(EXT, default_set=True)
+    win, view3d, region = yield from start_with_example("pear")
     ill = sys.modules[EXT + ".operators.illustrate"]
-    win = bpy.context.window_manager.windows[0]
-    for obj in list(bpy.data.objects):
-        if obj.type == "MESH":
-            bpy.data.objects.remove(obj)
-    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = [r for r in view3d.regions if r.type == "WINDOW"][0]
-    with bpy.context.temp_override(window=win, area=view3d, region=region):
-        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "pear.json"), preview=False)
     counts = {}
     for preset in PRESETS:
         tree = bpy.data.node_groups["pear"]
