@@ -96,8 +96,8 @@ def bisect_some(surface, kinds, A, B, ref, tol, iters=60, crease_angle=None, anc
             dead |= ~jump[live] & (w > 0.25 * check[live])
             check[live] = w
         if it and it % PROGRESS_EVERY == 0:
-            # a crease bracket gets twice as long (it used to oscillate for all 60
-            # iterations between trial points landing off the segment)
+            # a crease bracket gets twice as long (trial points landing off the
+            # segment could otherwise keep it oscillating for all its iterations)
             dead |= jump[live] & (w > 0.25 * check_c[live])
             check_c[live] = w
         if crease_angle is not None:

@@ -7,8 +7,8 @@ is halved instead (down to 1/32 of a full step, after which it stays where it is
 step that was taken lets the next one grow back (times 2, up to a full step). Only the
 points not yet on the surface are evaluated, and every step is a single batched field
 evaluation: ``steps`` bounds the number of evaluations, not only of moves (a rejected
-step used to cost a second evaluation for the few points that overshot, and field calls
-on small batches cost about the same as on large ones).
+step costs no evaluation of its own: field calls on small batches cost about the same
+as on large ones).
 """
 import numpy as np
 

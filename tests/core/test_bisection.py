@@ -129,7 +129,7 @@ def test_a_narrow_crease_bracket_finishes_where_its_tangent_planes_meet():
 def test_a_silhouette_bracket_across_a_crease_is_given_up_early():
     """n.v can change sign by jumping across a crease rather than passing through zero
     (here the rim of a pocket whose far wall faces away): such a bracket is no
-    silhouette (the callers reject it) and used to run all 60 iterations; once it is
+    silhouette (the callers reject it) and need not run all 60 iterations: once it is
     down to a hundredth with its ends' normals still apart, it stops, invalid."""
     s, surf, a, ga, b, gb = crease_seed_brackets({"type": "difference", "children": [BODY, POCKET]},
                                                  (-3.0, -6.0, 0.3))

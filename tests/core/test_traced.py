@@ -15,8 +15,8 @@ SPHERE = {"type": "point", "center": [0, 0, 0], "radius": 1.0}
 
 def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
     """Its own points count for a trace only beyond SELF_GAP steps along it: a
-    backward half that meets the forward half stops (it used to go round a small loop
-    for ever)."""
+    backward half that meets the forward half stops (rather than going round a small
+    loop for ever)."""
     from blobtree_ink.agents.traced import SELF_GAP
     s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
     p = np.array([1.0, 0.0, 0.0])
