@@ -11,7 +11,8 @@ The stages, in order: initialisation (polygonisation, the blackboard, sub-cell
 features: the slow part of a big model), the agents' system iterations (while outlines
 are wanted), the visible outlines (hidden lines removed against the exact surface), then
 the style's stroke layers one by one (hatching, cross-hatching, strokes from the feature
-chains, short strokes, stipples) and a single stroke. :meth:`Illustration.stop` skips
+chains, short strokes, stipples), each in parts of its starts and on its own random
+stream from the job's seed, and a single stroke. :meth:`Illustration.stop` skips
 what is left but the outlines of what was traced: a stopped illustration keeps every
 layer it finished, and the outlines found so far with their hidden lines removed.
 """
@@ -30,6 +31,7 @@ from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_ST
 # each stage's share of a run, for the progress figure (sampling: the share of the
 # seeds taken; the stroke layers share theirs equally)
 SHARES = {"init": 0.15, "sampling": 0.5, "outlines": 0.1, "strokes": 0.25}
+STROKE_STAGES = ("hatching", "cross-hatching", "chains", "short", "stipples")
 
 
 @dataclass
@@ -72,13 +74,14 @@ class Illustration:
         self.sampling = None           # the session's snapshot once its sampling ended
         self._live = None              # ... and while it runs (the fragments traced so far)
         self.line_radius = None
-        self.rng = default_rng(self.job.seed)
         self.layers = {}               # layer name -> strokes finished
         self.outline_set = None        # the visible outlines (a StrokeSet), once that stage ran
         self.warnings = []
         self.stages = self._plan()
         self.at = 0                    # the stage being worked on
         self.completed = []            # the stages done (a stop skips the rest)
+        self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
+        self._rng = None                   # ... and its random generator
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -187,29 +190,36 @@ class Illustration:
         regions = [r.region for r in self.job.requests if r.kind == PLACE_STROKES]
         return regions[0] if regions else None
 
-    def _layer(self, name, strokes):
-        self.layers.setdefault(name, []).extend(strokes)
-        self._next()
+    def _stroke_layer(self, layer, parts, draw, **kw):
+        """One part of a stroke layer per step (the parts listed at the layer's first
+        step); the layer's stage ends with its last part."""
+        if self._parts is None:
+            self._parts, self._part = parts(self.sampling, self.style, self._region()), 0
+            # each layer its own random stream from the seed: a layer does not change
+            # when another is drawn before it, or not at all
+            self._rng = default_rng((self.job.seed, STROKE_STAGES.index(self.stage)))
+        strokes = draw(self.ev, self.sampling, self.eye, self.light, self.style, self._rng, self.line_radius,
+                       self._region(), self._parts[self._part], **kw)
+        self.layers.setdefault(layer, []).extend(strokes)
+        self._part += 1
+        if self._part == len(self._parts):
+            self._parts = None
+            self._next()
 
     def _hatching(self):
-        self._layer(STYLE_LAYERS["hatching"], LY.hatching(self.ev, self.sampling, self.eye, self.light, self.style,
-                                                          self.rng, self.line_radius, self._region()))
+        self._stroke_layer(STYLE_LAYERS["hatching"], LY.hatching_parts, LY.hatching)
 
     def _cross_hatching(self):
-        self._layer(STYLE_LAYERS["hatching"], LY.hatching(self.ev, self.sampling, self.eye, self.light, self.style,
-                                                          self.rng, self.line_radius, self._region(), cross=True))
+        self._stroke_layer(STYLE_LAYERS["hatching"], LY.hatching_parts, LY.hatching, cross=True)
 
     def _chains(self):
-        self._layer(STYLE_LAYERS["chains"], LY.chains(self.ev, self.sampling, self.eye, self.light, self.style,
-                                                      self.rng, self.line_radius, self._region()))
+        self._stroke_layer(STYLE_LAYERS["chains"], LY.chains_parts, LY.chains)
 
     def _short(self):
-        self._layer(STYLE_LAYERS["short"], LY.short(self.ev, self.sampling, self.eye, self.light, self.style,
-                                                    self.rng, self.line_radius, self._region()))
+        self._stroke_layer(STYLE_LAYERS["short"], LY.short_parts, LY.short)
 
     def _stipples(self):
-        self._layer(STYLE_LAYERS["stipples"], LY.stipples(self.ev, self.sampling, self.eye, self.light, self.style,
-                                                          self.rng, self.line_radius, self._region()))
+        self._stroke_layer(STYLE_LAYERS["stipples"], LY.stipples_parts, LY.stipples)
 
     def _single(self):
         cursor = [r.cursor for r in self.job.requests if r.kind == SINGLE_STROKE][0]
@@ -217,7 +227,8 @@ class Illustration:
                                   self.job.seed)
         if stroke is None:
             self.warnings.append("the start point is not near the surface: no stroke")
-        self._layer(SINGLE_LAYER, [stroke] if stroke is not None else [])
+        self.layers.setdefault(SINGLE_LAYER, []).extend([stroke] if stroke is not None else [])
+        self._next()
 
     # --- results ----------------------------------------------------------------------
     def progress(self):
@@ -228,6 +239,8 @@ class Illustration:
         def share(s):
             return SHARES.get(s, SHARES["strokes"] / max(len(strokes), 1))
         done_shares = sum(share(s) for s in self.completed)
+        if self._parts:
+            done_shares += share(self.stage) * self._part / len(self._parts)
         current = self._current()
         if self.stage == "sampling" and current is not None:
             done_shares += share("sampling") * self._sampled(current)

@@ -2,7 +2,8 @@
 (agents.Sampling): the visible outlines, hatching and cross-hatching, strokes from the
 feature chains, short strokes on the polygon centres, stipples, and a single stroke.
 One function per layer; the illustration calls them in a fixed order on one random
-generator (strokes.layers places them, strokes.smarticles moves them)."""
+generator, a layer in parts of its starts (strokes.layers places them,
+strokes.smarticles moves them)."""
 import numpy as np
 from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
@@ -15,6 +16,8 @@ from ..strokes.style import outline_strokes
 
 STEP = 0.3                  # a smarticle's step, in blackboard cells (stipples take half)
 SINGLE_STEPS = 60           # a single stroke's steps, at most
+CHUNK = 1000                # starts per part of a stroke layer (one pipeline step each)
+CHUNK_OUTLINES = 40         # outlines per part of the chain strokes
 
 
 def radius(st, line_radius):
@@ -38,15 +41,29 @@ def starts(sampling, st, region):
     return V[keep], N[keep]
 
 
+def _chunks(n, size):
+    """Slices of ``size`` covering range(n) (at least one, maybe empty)."""
+    return [slice(a, a + size) for a in range(0, n, size)] or [slice(0, 0)]
+
+
 def _common(st, line_radius, region):
     return dict(radius=0.6 * radius(st, line_radius), region=region, contrast=st.contrast,
                 weights=st.resolved_weights())
 
 
-def hatching(ev, sampling, eye, light, st, rng, line_radius, region=None, cross=False):
-    """Hatching along the style's flow field (or, with ``cross``, the cross-hatching
-    along its cross field in the darkest part of the shade)."""
+# Each stroke layer is drawn in parts (chunks of its starts), one part per pipeline
+# step, so that a stopped illustration keeps a partly drawn layer: ``parts`` lists
+# them from the sampling, ``draw`` draws one.
+
+def hatching_parts(sampling, st, region):
     V, N = starts(sampling, st, region)
+    return [(V[c], N[c]) for c in _chunks(len(V), CHUNK)]
+
+
+def hatching(ev, sampling, eye, light, st, rng, line_radius, region, part, cross=False):
+    """Hatching along the style's flow field (or, with ``cross``, the cross-hatching
+    along its cross field in the darkest part of the shade) from a part's starts."""
+    V, N = part
     kw = _common(st, line_radius, region)
     rules = sm.StrokeRules(max_steps=st.hatch_steps, region=region, stop_on_curvature_sign=st.surface != "all")
     step = STEP * sampling.cell
@@ -59,30 +76,46 @@ def hatching(ev, sampling, eye, light, st, rng, line_radius, region=None, cross=
                       **dict(kw, radius=0.5 * radius(st, line_radius)))
 
 
-def chains(ev, sampling, eye, light, st, rng, line_radius, region=None):
-    """Strokes started from the feature chains (the outlines near the region)."""
+def chains_parts(sampling, st, region):
     near = [o for o in sampling.outlines if region is None or region.contains(o.points).any()]
-    if not near:
+    return [near[c] for c in _chunks(len(near), CHUNK_OUTLINES)]
+
+
+def chains(ev, sampling, eye, light, st, rng, line_radius, region, part):
+    """Strokes started from a part's feature chains."""
+    if not part:
         return []
-    return L.chain_strokes(ev, near, eye, light, STEP * sampling.cell, rng, every=st.chain_step,
+    return L.chain_strokes(ev, part, eye, light, STEP * sampling.cell, rng, every=st.chain_step,
                            angle=st.chain_angle, field=st.chain_field, axis=st.hatch_axis,
                            max_distance=st.chain_distance * sampling.cell, lower=st.shade_lower,
                            upper=st.shade_upper, **_common(st, line_radius, region))
 
 
-def short(ev, sampling, eye, light, st, rng, line_radius, region=None):
-    """Short strokes through the polygon centres."""
+def short_parts(sampling, st, region):
     C, CN = sampling.face_centres()
     inside = np.ones(len(C), bool) if region is None else region.contains(C)
-    return L.short_strokes(ev, C[inside], CN[inside], eye, light, STEP * sampling.cell, rng, field=st.hatch_field,
+    C, CN = C[inside], CN[inside]
+    return [(C[c], CN[c]) for c in _chunks(len(C), CHUNK)]
+
+
+def short(ev, sampling, eye, light, st, rng, line_radius, region, part):
+    """Short strokes through a part's polygon centres."""
+    C, CN = part
+    return L.short_strokes(ev, C, CN, eye, light, STEP * sampling.cell, rng, field=st.hatch_field,
                            axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05,
                            **_common(st, line_radius, region))
 
 
-def stipples(ev, sampling, eye, light, st, rng, line_radius, region=None):
-    """Stipples from wandering smarticles (every other start)."""
+def stipples_parts(sampling, st, region):
     V, N = starts(sampling, st, region)
-    return L.stipples(ev, V[::2], N[::2], eye, light, 0.5 * STEP * sampling.cell, rng, every=st.stipple_every,
+    V, N = V[::2], N[::2]                   # every other start
+    return [(V[c], N[c]) for c in _chunks(len(V), CHUNK)]
+
+
+def stipples(ev, sampling, eye, light, st, rng, line_radius, region, part):
+    """Stipples from a part's wandering smarticles."""
+    V, N = part
+    return L.stipples(ev, V, N, eye, light, 0.5 * STEP * sampling.cell, rng, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * radius(st, line_radius),
                       region=region, contrast=st.contrast)
 

@@ -59,7 +59,7 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
     if n == 0:
         return out
     flock = np.zeros(n, int) if flock is None else np.asarray(flock)
-    P, f, g = _onto(ev, P)
+    P, f, g = project(ev, P, START_STEPS)
     N = -st.unit(g)
     c = curvature(ev, P, g)
     c["velocity"] = np.zeros_like(P)
@@ -72,10 +72,10 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
     V = st.unit(st.tangent(V + 1e-9 * rng.normal(size=V.shape), N))
     start_n = N.copy()
     start_sign = np.sign(c["mean"])
-    alive = np.ones(n, bool)
-    paths = [[P[i].copy()] for i in range(n)]
-    norms = [[N[i].copy()] for i in range(n)]
-    reasons = [""] * n
+    alive = on_surface(f, ev.iso, NEAR_SURFACE)        # a start that did not reach the surface draws nothing
+    paths = [[P[i].copy()] if alive[i] else [] for i in range(n)]
+    norms = [[N[i].copy()] if alive[i] else [] for i in range(n)]
+    reasons = ["" if a else "lost surface" for a in alive]
     lengths = np.zeros(n)
     sep_r = separation_radius if separation_radius is not None else 2 * step
     for k in range(rules.max_steps):
@@ -145,8 +145,8 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
         for key in ("mean", "dir1", "dir2"):
             c[key][go] = cq[key][~stop]
     for i in range(n):
-        out.paths.append(np.array(paths[i]))
-        out.normals.append(np.array(norms[i]))
+        out.paths.append(np.array(paths[i]).reshape(-1, 3))
+        out.normals.append(np.array(norms[i]).reshape(-1, 3))
         out.reasons.append(reasons[i] or "steps")
     return out
 
@@ -167,6 +167,7 @@ def nearest_distance(P, Q, rows=512):
 
 
 ONTO_STEPS = 4             # Newton steps of the attractor correction after each move
+START_STEPS = 8            # ... and onto the surface from the starts (a flock's members start off it)
 
 
 def _onto(ev, P):

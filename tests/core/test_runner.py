@@ -83,6 +83,26 @@ def test_stop_during_a_layer_keeps_the_layers_before_it(load_example):
     assert got.stopped and got.strokes.count("Hatching") == hatched > 0 and k == ill.stages.index("cross-hatching")
 
 
+def test_stop_in_the_middle_of_a_layer_keeps_its_finished_parts(load_example, monkeypatch):
+    """A stroke layer is drawn in parts (chunks of its starts), one per step: a stop
+    keeps the parts drawn so far, and the full run draws the same parts and more."""
+    from blobtree_ink.pipeline import layers as LY
+    monkeypatch.setattr(LY, "CHUNK", 60)
+    full = PL.Illustration(job_for(load_example, "pear", "hatched", requests=[PL.Request("PLACE_STROKES")])).run()
+    ill = PL.Illustration(job_for(load_example, "pear", "hatched", requests=[PL.Request("PLACE_STROKES")]))
+    while not (ill.stage == "hatching" and ill._part == 3):
+        assert ill.step()
+    made = ill.result()
+    assert 0.2 < made.progress.fraction < 0.9
+    ill.stop()
+    assert not ill.step()
+    got = ill.result()
+    part, whole = got.strokes.layers["Hatching"], full.strokes.layers["Hatching"]
+    assert 0 < len(part) < len(whole) and got.stopped and got.owned == ("Hatching",)
+    for x, y in zip(part, whole):                 # the same strokes as the full run's first ones
+        assert np.array_equal(x.points, y.points)
+
+
 def test_cancel_ends_without_more_work(load_example):
     RN.HOLD.arm(2)
     ill = PL.Illustration(job_for(load_example, "heart", "outlines"))

@@ -169,3 +169,15 @@ def test_containment_steers_back_before_leaving_the_region():
     assert kept.reasons[0] == "steps" and len(kept.paths[0]) == 151
     assert region.contains(kept.paths[0]).all()
     assert free.reasons[0] == "left region" and len(free.paths[0]) < 100
+
+
+def test_a_start_that_does_not_reach_the_surface_draws_nothing():
+    """A start too far off the surface for its Newton steps (here deep in empty space
+    beside a sphere) gets an empty path; the others are traced."""
+    ev = M.Evaluator(M.from_dict({"format": "blobtree-1", "root": {"type": "point", "center": [0, 0, 0],
+                                                                   "radius": 1.0}}))
+    starts = np.array([[0.0, -0.6, 0.0], [0.0, -50.0, 0.0]])
+    res = sm.run(ev, starts, layers.direction_field("dir1"), 0.05, sm.PRESETS["hatching"],
+                 sm.StrokeRules(max_steps=5), np.random.default_rng(0))
+    assert len(res.paths[0]) > 3 and res.paths[1].shape == (0, 3) and res.reasons[1] == "lost surface"
+    assert np.abs(ev.field(res.paths[0]) - 0.5).max() < 1e-6
