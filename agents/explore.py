@@ -36,6 +36,7 @@ class Explorers:
         self.queue = []
         self.explored = set()
         self.starts = {}
+        self.started = 0            # explorers sent out so far
 
     def __len__(self):
         """Exploring agents (not counting the queue)."""
@@ -85,6 +86,7 @@ class Explorers:
         curv = curvature(surface.ev, P, g)["mean"]
         self.table.append(len(rows), agent=self.pool.take(len(rows)), voxel=rows, centre=centres, p=P, d=d, n=n,
                           s_sil=sil, s_curv=curv, steps=0)
+        self.started += len(rows)
 
     def step(self):
         """One step of every explorer; feature points found go to the blackboard.

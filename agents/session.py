@@ -292,7 +292,9 @@ class Session:
         return {"iterations": self.iteration, "tasks_left": self.tasks_left,
                 "outline_length": total_length(outs),
                 "outlines": len(outs), "busy_agents": self.pool.busy,
-                "seeds": len(used), "seeds_taken": int(np.count_nonzero(used))}
+                "seeds": len(used), "seeds_taken": int(np.count_nonzero(used)),
+                "tasks_started": self.traces.serial + self.explorers.started,
+                "tasks_ended": self.traces.serial - len(self.traces) + self.explorers.started - len(self.explorers)}
 
     def snapshot(self, stitch=True):
         """What the session has found so far, as a plain :class:`Sampling` value (the

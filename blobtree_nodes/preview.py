@@ -1,7 +1,9 @@
 """The live preview: a polygonised mesh of the tree's model, rebuilt shortly after
-edits stop (blobtree_nodes.changes debounces them), kept in its own collection, one
-object per tree. A broken tree keeps its previous preview and shows its error on the
-offending node.
+edits stop (blobtree_nodes.changes debounces them). Each tree has a collection of its
+own (inside the BlobTree Ink collection) that holds its preview object and its ink
+(Grease Pencil) object. The preview is left out of renders unless the tree's Render
+Preview Mesh is on, and is white while the tree's Paper is on. A broken tree keeps its
+previous preview and shows its error on the offending node.
 """
 import bpy
 import numpy as np
@@ -11,8 +13,10 @@ from ..model import Evaluator
 from . import changes
 from .compile import tree_model_or_none
 
-COLLECTION = "BlobTree Ink Previews"
+COLLECTION = "BlobTree Ink"
+PAPER_MATERIAL = "BlobTree Ink Paper Mesh"
 stats = {"rebuilds": 0}          # for tests and the UI
+
 
 def rebuild(tree):
     """Polygonise the tree's model into its preview object. False for a broken tree
@@ -30,8 +34,27 @@ def rebuild(tree):
         return False
     obj = _preview_object(tree)
     write_mesh(obj.data, mesh.vertices, mesh.quads)
+    paper_look(tree)
     stats["rebuilds"] += 1
     return True
+
+
+def paper_look(tree):
+    """The preview mesh in white while the tree's Paper is on (ink reads on it in the
+    viewport), with no material of its own otherwise."""
+    obj = tree.preview_object
+    if obj is None or obj.data is None:
+        return
+    mats = obj.data.materials
+    if tree.ink.paper:
+        mat = bpy.data.materials.get(PAPER_MATERIAL) or bpy.data.materials.new(PAPER_MATERIAL)
+        mat.diffuse_color = (1.0, 1.0, 1.0, 1.0)
+        mat.roughness = 1.0
+        if len(mats) != 1 or mats[0] != mat:
+            mats.clear()
+            mats.append(mat)
+    elif len(mats) and mats[0] is not None and mats[0].name == PAPER_MATERIAL:
+        mats.clear()
 
 
 def _output_error(tree, message):
@@ -40,7 +63,7 @@ def _output_error(tree, message):
             n.set_error(message)
 
 
-def _collection():
+def _parent_collection():
     coll = bpy.data.collections.get(COLLECTION)
     if coll is None:
         coll = bpy.data.collections.new(COLLECTION)
@@ -50,15 +73,28 @@ def _collection():
     return coll
 
 
+def tree_collection(tree):
+    """The tree's own collection (its preview and its ink), made on first use."""
+    coll = tree.collection
+    parent = _parent_collection()
+    if coll is None or coll.name not in bpy.data.collections:
+        coll = bpy.data.collections.new(tree.name)
+        tree.collection = coll
+    if coll.name not in parent.children:
+        parent.children.link(coll)
+    return coll
+
+
 def _preview_object(tree):
     obj = tree.preview_object
     if obj is not None and obj.name in bpy.data.objects and obj.type == "MESH":
         if not obj.users_collection:
-            _collection().objects.link(obj)
+            tree_collection(tree).objects.link(obj)
         return obj
     me = bpy.data.meshes.new(f"{tree.name} Preview")
     obj = bpy.data.objects.new(f"{tree.name} Preview", me)
-    _collection().objects.link(obj)
+    obj.hide_render = not tree.ink.render_preview
+    tree_collection(tree).objects.link(obj)
     tree.preview_object = obj
     return obj
 

@@ -6,11 +6,12 @@ from ..agents.session import Settings as _RunSettings
 from ..strokes import smarticles as sm
 from ..strokes import style as ST
 
-# Style settings mirrored as properties (the rest of Style keeps its defaults).
+# Style settings mirrored as properties (the rest of Style keeps its defaults). A preset
+# sets these and nothing else: never the grid, agents, level of detail or seed.
 STYLE_PROPS = ("hatching", "stipples", "chains", "short", "hatch_field", "hatch_axis", "cross_hatching", "cross_field",
                "surface", "flock_size", "shade_lower", "shade_upper", "chain_step", "chain_angle",
                "stipple_every", "line_width", "contrast")
-RUN_DEFAULTS = dict(grid_resolution=_RunSettings.resolution, agents=_RunSettings.agents, lod=_RunSettings.lod)
+PRESET_PROPS = STYLE_PROPS + ("weights",) + tuple(f"w_{k}" for k in ST.WEIGHT_NAMES)
 
 
 def _preset_values(style):
@@ -23,11 +24,28 @@ def _preset_values(style):
     else:
         v["weights"] = "CUSTOM"
         v.update({f"w_{k}": style.weights.get(k, 0.0) for k in ST.WEIGHT_NAMES})
-    return dict(RUN_DEFAULTS, **v)
+    return v
 
 
 # the looks of the papers' figures, by operator-friendly identifier
 PRESETS = {name.upper().replace("-", "_"): _preset_values(st) for name, st in ST.STYLES.items()}
+PRESET_TIPS = {
+    "OUTLINES": "Feature outlines only: silhouettes and creases, hidden lines removed",
+    "STIPPLED": "Outlines and stipples in the shade (MASSRIS figures 1 and 6)",
+    "HATCHED": "Outlines and hatching along the first principal direction, cross-hatched in the darkest shade",
+    "FLOCKED": "Outlines and sketchy hatching by flocks of four smarticles (Smarticles figure 4)",
+    "SILHOUETTE_SHADING": "Outlines and strokes started from the feature chains (Smarticles figure 3, left)",
+    "SHORT_STROKES": "Outlines, short strokes on the polygon centres and stipples (MASSRIS figure 1)",
+    "TECHNICAL": "Outlines and horizontal hatching along the level lines of the vertical axis "
+                 "(Smarticles figure 3, right)",
+    "CONTOUR": "Outlines and hatching across the view direction, like contour lines",
+}
+
+
+def apply_preset(ink, key):
+    """Set a tree's style settings to a preset's (and only those)."""
+    for name, value in PRESETS[key].items():
+        setattr(ink, name, value)
 
 
 def style_of(ink):
@@ -44,50 +62,106 @@ def style_of(ink):
     return ST.style("outlines", **ch)
 
 
-FIELD_ITEMS = [("DIR1", "First Principal", "Along the first principal direction"),
-               ("DIR2", "Second Principal", "Along the second principal direction"),
+FIELD_ITEMS = [("DIR1", "First Principal", "Along the first principal direction of curvature"),
+               ("DIR2", "Second Principal", "Along the second principal direction of curvature"),
                ("CONTOUR", "Contour", "Across the view direction, like contour lines"),
                ("AXIS", "Axis", "Along the axis, projected on the surface"),
+               ("LEVEL", "Level Lines", "Along the level lines of the axis (horizontal for the vertical axis)"),
                ("STRAIGHT", "Straight", "Keep the initial heading")]
+WEIGHT_TIPS = {
+    "flow": "Follow the flow field",
+    "wander": "Small random changes of heading (sketchy strokes, stipples)",
+    "separation": "Keep away from flockmates (parallel strokes)",
+    "alignment": "Head where the flockmates head",
+    "cohesion": "Stay with the flock",
+    "containment": "Turn back before leaving the region",
+}
 
 
 def _weight(name, default):
     return bpy.props.FloatProperty(name=name.title(), default=default, min=0.0, max=100.0, soft_max=5.0,
-                                   description=f"Weight of the {name} behaviour (Custom weights)")
+                                   description=f"Custom weight of a behaviour: {WEIGHT_TIPS[name]}")
+
+
+def _paper(self, context):
+    from ..grease_pencil import scene as S
+    if not self.paper and context.scene is not None:
+        S.unpaper(context.scene, self.paper_restore)
+        self.paper_restore = ""
+
+
+def _render_preview(self, context):
+    tree = self.id_data
+    obj = getattr(tree, "preview_object", None)
+    if obj is not None:
+        obj.hide_render = not self.render_preview
 
 
 class BlobTreeInkSettings(bpy.types.PropertyGroup):
-    grid_resolution: bpy.props.IntProperty(name="Grid", default=20, min=8, max=128,
-                                           description="About Grid^3 cubic blackboard cells over the model")
-    agents: bpy.props.IntProperty(name="Agents", default=RUN_DEFAULTS["agents"], min=1, max=10000,
-                                  description="Agents stepped together each system iteration")
-    lod: bpy.props.FloatProperty(name="Level of Detail", default=0.5, min=0.0, max=1.0)
-    seed: bpy.props.IntProperty(name="Seed", default=0, min=0)
-    use_camera: bpy.props.BoolProperty(name="From Camera", default=True,
-                                       description="Illustrate for the scene camera (else the viewport's view)")
-    region_radius: bpy.props.FloatProperty(name="Region Radius", default=0.5, min=0.001, unit="LENGTH",
-                                           description="Radius of the sphere around the 3D cursor that "
-                                           "region requests use when no object is selected")
+    grid_resolution: bpy.props.IntProperty(
+        name="Grid", default=_RunSettings.resolution, min=8, max=128,
+        description="Resolution of the agents' blackboard: about Grid^3 cubic cells over the model (finer finds "
+                    "smaller features and takes longer)")
+    agents: bpy.props.IntProperty(
+        name="Agents", default=_RunSettings.agents, min=1, max=10000,
+        description="Agents stepped together each system iteration (more agents: fewer, larger iterations)")
+    lod: bpy.props.FloatProperty(
+        name="Level of Detail", default=_RunSettings.lod, min=0.0, max=1.0,
+        description="How much the agents favour flat, quiet parts of the surface against its busy parts "
+                    "(MASSRIS's user level of detail, 0 to 1)")
+    seed: bpy.props.IntProperty(
+        name="Seed", default=0, min=0,
+        description="Seed of the random choices (exploring agents, which strokes go in the penumbra, wander): "
+                    "the same seed draws the same strokes")
+    use_camera: bpy.props.BoolProperty(
+        name="From Camera", default=True,
+        description="Illustrate the model as the scene camera sees it (else as the 3D viewport does)")
+    region: bpy.props.EnumProperty(
+        name="Region", default="AUTO",
+        description="Where Place Strokes and Find Features work",
+        items=[("AUTO", "Selection or Whole Model",
+                "The bounds of the selected objects; the whole model when nothing usable is selected"),
+               ("CURSOR", "Around the 3D Cursor",
+                "A sphere around the 3D cursor, its radius the Region Size times the model's size")])
+    region_size: bpy.props.FloatProperty(
+        name="Region Size", default=0.25, min=0.01, max=2.0, subtype="FACTOR",
+        description="Radius of the sphere around the 3D cursor, as a fraction of the model's size")
+    paper: bpy.props.BoolProperty(
+        name="Paper", default=True, update=_paper,
+        description="Ink on white paper: a white world in renders and Material Preview, a view transform that "
+                    "keeps white white, the preview mesh in white (off: the scene's own look is left as it is)")
+    paper_restore: bpy.props.StringProperty(options={"HIDDEN"},
+                                            description="What Paper replaced in the scene (restored when it is off)")
+    render_preview: bpy.props.BoolProperty(
+        name="Render Preview Mesh", default=False, update=_render_preview,
+        description="Render the preview mesh too (off: only the ink shows in renders)")
     # --- style (strokes.style.Style) ---
-    hatching: bpy.props.BoolProperty(name="Hatching", default=False, description="Hatch the shaded regions")
-    stipples: bpy.props.BoolProperty(name="Stipples", default=False, description="Stipples from wandering agents")
+    hatching: bpy.props.BoolProperty(name="Hatching", default=False,
+                                     description="Place Strokes draws hatching in the shaded regions")
+    stipples: bpy.props.BoolProperty(name="Stipples", default=False,
+                                     description="Place Strokes draws stipples from wandering smarticles in the shade")
     chains: bpy.props.BoolProperty(name="Chain Strokes", default=False,
-                                   description="Strokes started from the silhouette and crease chains")
+                                   description="Place Strokes draws strokes started from the silhouette and crease "
+                                               "chains (traces the outlines first)")
     short: bpy.props.BoolProperty(name="Short Strokes", default=False,
-                                  description="Short strokes centred on the polygon centres")
+                                  description="Place Strokes draws short strokes centred on the polygon centres")
     hatch_field: bpy.props.EnumProperty(name="Flow Field", default="DIR1", items=FIELD_ITEMS,
                                         description="The direction hatching and short strokes follow")
     cross_field: bpy.props.EnumProperty(name="Cross Field", default="DIR2", items=FIELD_ITEMS,
                                         description="The direction of the cross-hatching")
-    hatch_axis: bpy.props.FloatVectorProperty(name="Axis", default=(0.0, 0.0, 1.0), size=3, subtype="DIRECTION")
+    hatch_axis: bpy.props.FloatVectorProperty(name="Axis", default=(0.0, 0.0, 1.0), size=3, subtype="DIRECTION",
+                                              description="The axis of the Axis and Level Lines flow fields")
     cross_hatching: bpy.props.BoolProperty(name="Cross-Hatching", default=True,
                                            description="A second hatching layer in the darkest shade")
-    surface: bpy.props.EnumProperty(name="Regions", default="ALL",
+    surface: bpy.props.EnumProperty(name="Hatch Where", default="ALL",
+                                    description="Where hatching starts (and, when limited, where it stops: at a "
+                                                "change of the curvature's sign)",
                                     items=[("ALL", "All", "Hatch anywhere in shade"),
                                            ("CONVEX", "Convex", "Only convex regions"),
                                            ("CONCAVE", "Concave", "Only concave regions")])
     weights: bpy.props.EnumProperty(
-        name="Weights", default="HATCHING",
+        name="Steering", default="HATCHING",
+        description="How the smarticles steer: a preset of behaviour weights, or custom weights",
         items=[(k.upper(), k.title(), f"The {k} steering weights") for k in sm.PRESETS] +
               [("CUSTOM", "Custom", "The weights below")])
     w_flow: _weight("flow", 1.0)
@@ -97,20 +171,22 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
     w_cohesion: _weight("cohesion", 0.0)
     w_containment: _weight("containment", 0.0)
     flock_size: bpy.props.IntProperty(name="Flock Size", default=1, min=1, max=64,
-                                      description="Smarticles per flock (1: single smarticles)")
+                                      description="Smarticles per flock, side by side (1: single smarticles)")
     shade_lower: bpy.props.FloatProperty(name="Shade Lower", default=0.25, min=0.0, max=1.0,
                                          description="Below this light every start gets a stroke")
     shade_upper: bpy.props.FloatProperty(name="Shade Upper", default=0.6, min=0.0, max=1.0,
-                                         description="Above this light no stroke (between: the penumbra)")
+                                         description="Above this light no stroke (between: the penumbra, at random)")
     chain_step: bpy.props.IntProperty(name="Chain Step", default=3, min=1, max=10000,
-                                      description="Every n-th chain point starts a stroke")
+                                      description="Every n-th point of the feature chains starts a stroke")
     chain_angle: bpy.props.FloatProperty(name="Chain Angle", default=90.0, min=-180.0, max=180.0,
-                                         description="Degrees between the chain and its strokes")
+                                         description="Degrees between a feature chain and the strokes started from it")
     stipple_every: bpy.props.IntProperty(name="Stipple Every", default=3, min=1, max=1000,
-                                         description="A stipple at every k-th wander step")
-    line_width: bpy.props.FloatProperty(name="Line Width", default=1.0, min=0.01, max=100.0)
+                                         description="A stipple at every k-th step of a wandering smarticle")
+    line_width: bpy.props.FloatProperty(name="Line Width", default=1.0, min=0.01, max=100.0,
+                                        description="Width of every line and dot, times the base width (0.0025 of "
+                                                    "the model's size)")
     contrast: bpy.props.FloatProperty(name="Light Contrast", default=1.0, min=0.0, max=1.0,
-                                      description="How much the light sets stroke width and opacity")
+                                      description="How much the light sets stroke width and opacity (0: uniform)")
 
 
 classes = (BlobTreeInkSettings,)

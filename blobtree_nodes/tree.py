@@ -23,7 +23,10 @@ class BlobTreeNodeTree(bpy.types.NodeTree):
     show_preview: bpy.props.BoolProperty(name="Live Preview", default=True,
                                          description="Keep a polygonised preview mesh of the model up to date",
                                          update=lambda self, ctx: _schedule(self))
-    preview_object: bpy.props.PointerProperty(type=bpy.types.Object, name="Preview Object")
+    preview_object: bpy.props.PointerProperty(type=bpy.types.Object, name="Preview Object",
+                                              description="The polygonised preview mesh of the model")
+    collection: bpy.props.PointerProperty(type=bpy.types.Collection, name="Collection",
+                                          description="The collection of the tree's preview and ink objects")
     model_name: bpy.props.StringProperty(name="Model Name", description="The model's name in exported JSON "
                                          "(the tree's name when empty)")
     exact_iso: bpy.props.StringProperty(options={"HIDDEN"})

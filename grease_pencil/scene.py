@@ -1,11 +1,56 @@
-"""The command line's scene: a camera at the eye looking at the model, a sun towards the
-light, white paper (Workbench), all reused when they exist."""
+"""The scene around an illustration: white paper (a white world, a view transform that
+keeps white white) for the UI and the command line, and the command line's camera at
+the eye looking at the model and sun towards the light, all reused when they exist."""
+import json
+
 import bpy
 import numpy as np
 
 from ..pipeline.framing import LENS, SENSOR
 
 CAMERA, LIGHT = "BlobTree Ink Camera", "BlobTree Ink Light"
+PAPER_WORLD = "BlobTree Ink Paper"
+PAPER = (1.0, 1.0, 1.0)
+
+
+def paper(scene):
+    """Put the scene on white paper: the paper world (white in Workbench, EEVEE and
+    Material Preview), the Standard view transform with no look (white stays white),
+    an opaque film. Returns what it replaced, as a JSON string for :func:`unpaper`
+    ("" when the scene was on paper already)."""
+    vs = scene.view_settings
+    if scene.world is not None and scene.world.name == PAPER_WORLD and vs.view_transform == "Standard":
+        return ""
+    was = json.dumps({"world": scene.world.name if scene.world is not None else "",
+                      "view_transform": vs.view_transform, "look": vs.look, "exposure": vs.exposure,
+                      "gamma": vs.gamma, "film_transparent": scene.render.film_transparent})
+    world = bpy.data.worlds.get(PAPER_WORLD) or bpy.data.worlds.new(PAPER_WORLD)
+    world.color = PAPER
+    tree = getattr(world, "node_tree", None)
+    if tree is not None:                            # a node world (EEVEE, Material Preview): its background
+        for node in tree.nodes:
+            if node.type == "BACKGROUND":
+                node.inputs["Color"].default_value = (*PAPER, 1.0)
+                node.inputs["Strength"].default_value = 1.0
+    scene.world = world
+    vs.view_transform = "Standard"
+    vs.look = "None"
+    vs.exposure, vs.gamma = 0.0, 1.0
+    scene.render.film_transparent = False
+    return was
+
+
+def unpaper(scene, was):
+    """Give the scene back what :func:`paper` replaced."""
+    if not was:
+        return
+    d = json.loads(was)
+    scene.world = bpy.data.worlds.get(d["world"]) if d["world"] else None
+    vs = scene.view_settings
+    vs.view_transform = d["view_transform"]
+    vs.look = d["look"]
+    vs.exposure, vs.gamma = d["exposure"], d["gamma"]
+    scene.render.film_transparent = d["film_transparent"]
 
 
 def setup(scene, centre, eye, size=1024, light_dir=(0.4, -0.6, 0.7)):
@@ -29,12 +74,8 @@ def setup(scene, centre, eye, size=1024, light_dir=(0.4, -0.6, 0.7)):
     r.engine = "BLENDER_WORKBENCH"
     r.resolution_x = r.resolution_y = int(size)
     r.resolution_percentage = 100
-    r.film_transparent = False
     r.image_settings.file_format = "PNG"
-    if scene.world is None:
-        scene.world = bpy.data.worlds.new("BlobTree Ink Paper")
-    scene.world.color = (1.0, 1.0, 1.0)            # Workbench renders the world colour: paper
-    scene.view_settings.view_transform = "Standard"
+    paper(scene)
     bpy.context.view_layer.update()              # the objects' world matrices, read by the job
     return cam, light
 

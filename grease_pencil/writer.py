@@ -38,7 +38,8 @@ def _material(name, dots):
 
 def ink_object(name, collection=None):
     """The model's Grease Pencil object (created once, then reused), with its materials
-    and layers."""
+    and layers; with ``collection``, in that collection and no other (a new object
+    without one goes to the scene's)."""
     obj = bpy.data.objects.get(name)
     if obj is not None and obj.type != "GREASEPENCIL":
         raise ValueError(f"an object named '{name}' exists and is not Grease Pencil")
@@ -46,6 +47,12 @@ def ink_object(name, collection=None):
         gp = compat.grease_pencil_data().new(name)
         obj = bpy.data.objects.new(name, gp)
         (collection or bpy.context.scene.collection).objects.link(obj)
+    elif collection is not None:
+        if collection.name not in [c.name for c in obj.users_collection]:
+            collection.objects.link(obj)
+        for other in list(obj.users_collection):
+            if other.name != collection.name:
+                other.objects.unlink(obj)
     gp = obj.data
     for mat in (_material(LINE_MATERIAL, False), _material(DOTS_MATERIAL, True)):
         if mat.name not in [m.name for m in gp.materials if m is not None]:
@@ -54,6 +61,19 @@ def ink_object(name, collection=None):
         if gp.layers.get(layer) is None:
             gp.layers.new(layer)
     return obj
+
+
+def stroke_count(obj, layers, frame):
+    """Strokes on the given layers of a Grease Pencil object (None: 0) on a frame."""
+    if obj is None or obj.type != "GREASEPENCIL":
+        return 0
+    n = 0
+    for name in layers:
+        layer = obj.data.layers.get(name)
+        for fr in (layer.frames if layer is not None else []):
+            if fr.frame_number == frame:
+                n += len(fr.drawing.strokes)
+    return n
 
 
 def _frame(layer, number):

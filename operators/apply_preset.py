@@ -1,19 +1,21 @@
-"""Apply one of the illustration presets (the looks of the papers' figures) to a tree."""
+"""Set a tree's style to one of the preset looks without drawing (for scripts; the
+sidebar's preset buttons draw the look: blobtree_ink.illustrate with a preset)."""
 import bpy
 
-from ..blobtree_nodes.settings import PRESETS
+from ..blobtree_nodes.settings import PRESET_TIPS, PRESETS, apply_preset
 from .common import context_tree
+
+PRESET_ITEMS = [(k, k.replace("_", " ").title(), PRESET_TIPS[k]) for k in PRESETS]
 
 
 class BLOBTREE_INK_OT_apply_preset(bpy.types.Operator):
-    """Set the tree's illustration settings to a preset"""
+    """Set the tree's style settings to a preset look, without drawing (grid, agents, level of detail and seed stay)"""
     bl_idname = "blobtree_ink.apply_preset"
     bl_label = "Apply Illustration Preset"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree")
-    preset: bpy.props.EnumProperty(name="Preset", items=[(k, k.replace("_", " ").title(), f"The {k.lower().replace('_', ' ')} look")
-                                                 for k in PRESETS])
+    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
+    preset: bpy.props.EnumProperty(name="Preset", items=PRESET_ITEMS, description="The look")
 
     def execute(self, context):
         try:
@@ -21,8 +23,7 @@ class BLOBTREE_INK_OT_apply_preset(bpy.types.Operator):
         except LookupError as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        for key, value in PRESETS[self.preset].items():
-            setattr(tree.ink, key, value)
+        apply_preset(tree.ink, self.preset)
         return {"FINISHED"}
 
 

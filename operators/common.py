@@ -8,23 +8,50 @@ def blobtrees():
     return [t for t in bpy.data.node_groups if t.bl_idname == TREE]
 
 
+def tree_of_object(obj):
+    """The BlobTree whose preview or ink object this is, or None."""
+    if obj is None:
+        return None
+    for t in blobtrees():
+        if t.preview_object is not None and t.preview_object.name == obj.name:
+            return t
+        if obj.name == ink_name(t):
+            return t
+    return None
+
+
+def ink_name(tree):
+    """The name of a tree's ink (Grease Pencil) object."""
+    return f"{tree.model_name or tree.name} Ink"
+
+
+def active_tree(context):
+    """The tree the artist is working on: the one in the node editor, else the one whose
+    preview or ink object is active, else None."""
+    space = getattr(context, "space_data", None)
+    if space is not None and getattr(space, "type", "") == "NODE_EDITOR" and space.node_tree is not None \
+            and space.node_tree.bl_idname == TREE:
+        return space.node_tree
+    return tree_of_object(getattr(context, "active_object", None))
+
+
 def context_tree(context, name=""):
-    """The tree named ``name``, else the one in the active node editor, else the only one."""
+    """The tree named ``name``, else the active one (:func:`active_tree`), else the only one."""
     if name:
         t = bpy.data.node_groups.get(name)
         if t is None or t.bl_idname != TREE:
             raise LookupError(f"no BlobTree node tree named '{name}'")
         return t
-    space = getattr(context, "space_data", None)
-    if space is not None and getattr(space, "type", "") == "NODE_EDITOR" and space.node_tree is not None \
-            and space.node_tree.bl_idname == TREE:
-        return space.node_tree
+    t = active_tree(context)
+    if t is not None:
+        return t
     trees = blobtrees()
     if len(trees) == 1:
         return trees[0]
     if not trees:
         raise LookupError("there is no BlobTree node tree in this file")
-    raise LookupError("several BlobTree node trees: name one (tree_name) or open it in a node editor")
+    raise LookupError("several BlobTree node trees: select one's preview, open it in a node editor, or name it "
+                      "(tree_name)")
 
 
 def show_in_node_editor(context, tree):

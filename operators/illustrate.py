@@ -13,8 +13,11 @@ event loop, `execute` runs the same pipeline to the end.
 Requests: OUTLINES traces feature outlines; FIND_FEATURES explores a region for more
 detail (and traces what it finds); PLACE_STROKES draws the style's stroke layers in a
 region; SINGLE_STROKE draws one smarticle stroke from the 3D cursor. A region is the
-selected objects' bounds, else the whole model. Each request writes only
-its own layers (pipeline.Job.owned_layers).
+selected objects' bounds, else the whole model, or a sphere around the 3D cursor (the
+tree's Region setting). Each request writes only its own layers
+(pipeline.Job.owned_layers). With ``preset``, the tree's style is set to that look
+first and its strokes are drawn (with the outlines where none are drawn yet), in the
+same undo step. With the tree's Paper on, the scene is put on white paper.
 """
 import time
 
@@ -22,18 +25,30 @@ import bpy
 import numpy as np
 
 from .. import pipeline as PL
-from ..blobtree_nodes import changes
+from ..blobtree_nodes import changes, preview
 from ..blobtree_nodes.compile import TreeError, compile_tree
-from ..blobtree_nodes.settings import style_of
-from ..grease_pencil.writer import ink_object, write
+from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
+from ..grease_pencil import scene as S
+from ..grease_pencil.writer import ink_object, stroke_count, write
+from ..strokes.data import LAYER_OF_KIND
 from ..model import Evaluator
-from . import jobs
-from .common import context_tree
+from . import jobs, region_overlay
+from .common import context_tree, ink_name
 
-REQUESTS = [("OUTLINES", "Trace Feature Outlines", "Agents find and trace silhouettes and creases"),
-            ("SINGLE_STROKE", "Create a Single Stroke", "One smarticle stroke from the 3D cursor"),
-            ("PLACE_STROKES", "Place Strokes", "The style's strokes (hatching, stipples, ...) in a region"),
-            ("FIND_FEATURES", "Find Features", "Explore a region for more detail")]
+REQUESTS = [("OUTLINES", "Trace Feature Outlines",
+             "The agents find and trace the silhouettes and creases, hidden lines removed (replaces the outline "
+             "layers)"),
+            ("SINGLE_STROKE", "Create a Single Stroke",
+             "One smarticle stroke from the surface point nearest the 3D cursor (added to the Single Strokes "
+             "layer)"),
+            ("PLACE_STROKES", "Place Strokes",
+             "The style's strokes (hatching, chains, short strokes, stipples) in the region (replaces those "
+             "layers only)"),
+            ("FIND_FEATURES", "Find Features",
+             "Agents explore the region for smaller features and trace what they find (replaces the outline "
+             "layers)")]
+REQUEST_TIPS = {k: tip for k, _, tip in REQUESTS}
+NO_PRESET = "NONE"
 TICK = 0.05                 # seconds between the modal timer's ticks
 last_run = {}               # figures of the latest run (module state, read by the panel and tests)
 
@@ -44,28 +59,58 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     bl_label = "Illustrate BlobTree"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree")
+    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
     request: bpy.props.EnumProperty(name="Request", items=REQUESTS, default="OUTLINES")
+    preset: bpy.props.EnumProperty(name="Preset", default=NO_PRESET,
+                                   description="Set the tree's style to this look first and draw it",
+                                   items=[(NO_PRESET, "None", "Draw with the tree's style as it is")] +
+                                         [(k, k.replace("_", " ").title(), PRESET_TIPS[k]) for k in PRESETS])
+
+    @classmethod
+    def description(cls, context, properties):
+        if properties.preset != NO_PRESET:
+            return f"Draw the {properties.preset.replace('_', ' ').lower()} look: {PRESET_TIPS[properties.preset]}"
+        return REQUEST_TIPS[properties.request]
 
     # --- setting up ------------------------------------------------------------------
+    def _requests(self, context, tree, ev):
+        """The pipeline requests of this run (a preset: its strokes, with the outlines
+        where the outline layers have none yet, or the outlines alone)."""
+        kind = self.request
+        if self.preset != NO_PRESET:
+            kind = "OUTLINES" if self.preset == "OUTLINES" else "PLACE_STROKES"
+        region = jobs.request_region(context, tree, ev) if kind in ("PLACE_STROKES", "FIND_FEATURES") else None
+        cursor = tuple(context.scene.cursor.location) if kind == "SINGLE_STROKE" else None
+        requests = [PL.Request(kind, region, cursor)]
+        drawn = stroke_count(bpy.data.objects.get(ink_name(tree)), LAYER_OF_KIND.values(), context.scene.frame_current)
+        if self.preset not in (NO_PRESET, "OUTLINES") and drawn == 0:
+            requests.insert(0, PL.Request("OUTLINES"))
+        return tuple(requests)
+
     def _start(self, context):
         tree = context_tree(context, self.tree_name)
         self.tree_key = tree.name
+        ink = tree.ink
+        if self.preset != NO_PRESET:
+            apply_preset(ink, self.preset)
         model = compile_tree(tree)
         ev = Evaluator(model)
-        ink = tree.ink
         eye = jobs.camera_eye(context.scene) if ink.use_camera else None
         if eye is None:
             eye = jobs.viewport_eye(context)
-        region = jobs.selection_region(context, tree) \
-            if self.request in ("PLACE_STROKES", "FIND_FEATURES") else None
-        cursor = tuple(context.scene.cursor.location)
-        request = PL.Request(self.request, region, cursor if self.request == "SINGLE_STROKE" else None)
-        job = jobs.job(ev, context.scene, style_of(ink), jobs.tree_settings(ink), (request,), ink.seed, eye=eye)
+        requests = self._requests(context, tree, ev)
+        job = jobs.job(ev, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye)
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
-        self.obj_name = ink_object(f"{model.name} Ink").name
+        if ink.paper:
+            was = S.paper(context.scene)
+            if was:
+                ink.paper_restore = was
+            preview.paper_look(tree)
+        self.obj_name = ink_object(ink_name(tree), preview.tree_collection(tree)).name
         self.frame = context.scene.frame_current
+        self.regions = [r.region for r in requests if r.region is not None]
+        region_overlay.show(self.tree_key, self.regions)
         self.t_start = time.perf_counter()
         last_run.clear()
         last_run.update(iterations=0, ticks=0, max_tick_ms=0.0, state="running", tree=self.tree_key,
@@ -91,6 +136,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             result = self.illustration.run()
         except (LookupError, TreeError, PL.JobError, PL.NothingToDraw, ValueError) as e:
             return self._failed(e)
+        finally:
+            region_overlay.show(getattr(self, "tree_key", ""), [])
         self._figures(result.progress)
         self._write(result)
         self._report_done("done", result.warnings)
@@ -158,6 +205,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         wm.event_timer_remove(self.timer)
         wm.progress_end()
         context.workspace.status_text_set(None)
+        region_overlay.show(self.tree_key, [])
         result = self.runner.latest()
         warnings = []
         if result is not None:
@@ -178,6 +226,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         finally:
             context.window_manager.event_timer_remove(self.timer)
             context.window_manager.progress_end()
+            region_overlay.show(self.tree_key, [])
             last_run["state"] = "cancelled"
 
     def _report_done(self, state, warnings=()):

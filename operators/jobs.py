@@ -42,6 +42,16 @@ def scene_light(scene, centre, eye):
     return d / n if n > 0 else PL.default_light(centre, eye)
 
 
+def request_region(context, tree, ev):
+    """The region of a region request as the tree's settings say: the selection's
+    bounds (or None: the whole model), or a sphere around the 3D cursor, its radius the
+    region size times the model's radius."""
+    if tree.ink.region == "CURSOR":
+        _, radius = PL.bounds(ev)
+        return Region(sphere=(np.array(context.scene.cursor.location, float), tree.ink.region_size * radius))
+    return selection_region(context, tree)
+
+
 def selection_region(context, tree):
     """The bounds of the selected objects that can mark a region (not Grease Pencil
     objects, not the tree's own preview mesh), or None: the whole model."""

@@ -1,52 +1,61 @@
-"""Sidebar panels (3D viewport and node editor): requests, settings, the last run's
-figures and the Grease Pencil layers' visibility."""
+"""Sidebar panels of the 3D viewport and the node editor ("BlobTree Ink" tab): the
+active tree expanded (its requests, preset looks, settings, style and ink layers), the
+other trees as one row each, and the latest run's figures."""
 import bpy
 
 from ..blobtree_nodes.settings import PRESETS
-from .common import blobtrees
+from .common import active_tree, blobtrees, ink_name
 from .illustrate import REQUESTS, last_run
 
+REQUEST_ICONS = {"OUTLINES": "MOD_LINEART", "SINGLE_STROKE": "GREASEPENCIL", "PLACE_STROKES": "BRUSH_DATA",
+                 "FIND_FEATURES": "VIEWZOOM"}
 
-def _draw(layout, context, trees):
-    for tree in trees:
-        box = layout.box()
-        box.label(text=tree.name, icon="META_BALL")
-        col = box.column(align=True)
-        for ident, label, _ in REQUESTS:
-            op = col.operator("blobtree_ink.illustrate", text=label)
-            op.tree_name = tree.name
-            op.request = ident
-        s = tree.ink
-        grid = box.grid_flow(columns=2, align=True)
-        for key in PRESETS:
-            op = grid.operator("blobtree_ink.apply_preset", text=key.replace("_", " ").title())
-            op.tree_name = tree.name
-            op.preset = key
-        col = box.column(align=True)
-        col.prop(s, "grid_resolution")
-        col.prop(s, "agents")
-        col.prop(s, "lod")
-        col.prop(s, "seed")
-        col.prop(s, "use_camera")
-        _draw_style(box, s)
-        box.prop(s, "region_radius")
-        obj = bpy.data.objects.get(f"{tree.model_name or tree.name} Ink")
-        if obj is not None and obj.type == "GREASEPENCIL":
-            col = box.column(align=True)
-            col.label(text="Layers")
-            for layer in obj.data.layers:
-                col.prop(layer, "hide", text=layer.name, invert_checkbox=True)
-    if last_run:
-        col = layout.column(align=True)
-        col.label(text=f"Last run: {last_run.get('state', '')}")
-        col.label(text=f"Done: {100 * last_run.get('fraction', 0.0):.0f} % ({last_run.get('stage', '')})")
-        col.label(text=f"Iterations: {last_run.get('iterations', 0)}")
-        col.label(text=f"Outline length: {last_run.get('outline_length', 0):.3g}")
+
+def shown_tree(context):
+    """The tree the panels show: the active one, else the only one, else the first."""
+    tree = active_tree(context)
+    trees = blobtrees()
+    return tree if tree is not None else (trees[0] if trees else None)
+
+
+def _draw_tree(layout, tree):
+    col = layout.column(align=True)
+    for ident, label, _ in REQUESTS:
+        op = col.operator("blobtree_ink.illustrate", text=label, icon=REQUEST_ICONS[ident])
+        op.tree_name, op.request = tree.name, ident
+    layout.label(text="Looks (set the style and draw it)")
+    grid = layout.grid_flow(columns=2, align=True)
+    for key in PRESETS:
+        op = grid.operator("blobtree_ink.illustrate", text=key.replace("_", " ").title())
+        op.tree_name, op.preset, op.request = tree.name, key, "PLACE_STROKES"
+    s = tree.ink
+    col = layout.column(align=True)
+    col.prop(s, "grid_resolution")
+    col.prop(s, "agents")
+    col.prop(s, "lod")
+    col.prop(s, "seed")
+    col = layout.column(align=True)
+    col.prop(s, "use_camera")
+    col.prop(s, "region", text="")
+    if s.region == "CURSOR":
+        col.prop(s, "region_size")
+    col = layout.column(align=True)
+    col.prop(s, "paper")
+    col.prop(s, "render_preview")
+
+
+def _draw_others(layout, shown):
+    others = [t for t in blobtrees() if t != shown]
+    if not others:
+        return
+    col = layout.column(align=True)
+    col.label(text="Other BlobTrees")
+    for t in others:
+        col.operator("blobtree_ink.activate_tree", text=t.name, icon="META_BALL").tree_name = t.name
 
 
 def _draw_style(layout, s):
     col = layout.column(align=True)
-    col.label(text="Strokes")
     row = col.row(align=True)
     row.prop(s, "hatching", toggle=True)
     row.prop(s, "stipples", toggle=True)
@@ -55,7 +64,7 @@ def _draw_style(layout, s):
     row.prop(s, "short", toggle=True)
     col = layout.column(align=True)
     col.prop(s, "hatch_field")
-    if "AXIS" in (s.hatch_field, s.cross_field):
+    if {"AXIS", "LEVEL"} & {s.hatch_field, s.cross_field}:
         col.prop(s, "hatch_axis")
     col.prop(s, "cross_hatching")
     if s.cross_hatching:
@@ -76,33 +85,98 @@ def _draw_style(layout, s):
     col.prop(s, "contrast")
 
 
-class VIEW3D_PT_blobtree_ink(bpy.types.Panel):
+def _draw_layers(layout, tree):
+    obj = bpy.data.objects.get(ink_name(tree))
+    if obj is None or obj.type != "GREASEPENCIL":
+        layout.label(text="Nothing drawn yet")
+        return
+    col = layout.column(align=True)
+    for layer in obj.data.layers:
+        n = sum(len(fr.drawing.strokes) for fr in layer.frames)
+        op = col.operator("blobtree_ink.toggle_layer", text=f"{layer.name} ({n})",
+                          icon="HIDE_ON" if layer.hide else "HIDE_OFF", depress=not layer.hide)
+        op.object_name, op.layer = obj.name, layer.name
+
+
+def _draw_last_run(layout):
+    if not last_run:
+        return
+    col = layout.column(align=True)
+    col.label(text=f"Last run: {last_run.get('state', '')}")
+    col.label(text=f"Done: {100 * last_run.get('fraction', 0.0):.0f} % ({last_run.get('stage', '')})")
+    col.label(text=f"Iterations: {last_run.get('iterations', 0)}")
+
+
+class _Sidebar:
+    bl_region_type = "UI"
+    bl_category = "BlobTree Ink"
+
+
+class VIEW3D_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
     bl_label = "BlobTree Ink"
     bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "BlobTree Ink"
 
     def draw(self, context):
-        trees = blobtrees()
-        if not trees:
+        tree = shown_tree(context)
+        if tree is None:
             self.layout.operator("blobtree_ink.import_json", icon="IMPORT")
-        _draw(self.layout, context, trees)
+            return
+        self.layout.label(text=tree.name, icon="META_BALL")
+        _draw_tree(self.layout, tree)
+        _draw_others(self.layout, tree)
+        _draw_last_run(self.layout)
 
 
-class NODE_PT_blobtree_ink(bpy.types.Panel):
+class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
     bl_label = "BlobTree Ink"
     bl_space_type = "NODE_EDITOR"
-    bl_region_type = "UI"
-    bl_category = "BlobTree Ink"
 
     @classmethod
     def poll(cls, context):
-        return getattr(context.space_data, "tree_type", "") == "BlobTreeInkNodeTree"
+        return getattr(context.space_data, "tree_type", "") == "BlobTreeInkNodeTree" and \
+            context.space_data.node_tree is not None
 
     def draw(self, context):
-        tree = context.space_data.node_tree
-        if tree is not None:
-            _draw(self.layout, context, [tree])
+        _draw_tree(self.layout, context.space_data.node_tree)
+        _draw_last_run(self.layout)
 
 
-classes = (VIEW3D_PT_blobtree_ink, NODE_PT_blobtree_ink)
+def _style_panel(space, parent):
+    class Panel(_Sidebar, bpy.types.Panel):
+        bl_label = "Style"
+        bl_space_type = space
+        bl_parent_id = parent
+        bl_options = {"DEFAULT_CLOSED"}
+
+        @classmethod
+        def poll(cls, context):
+            return shown_tree(context) is not None
+
+        def draw(self, context):
+            _draw_style(self.layout, shown_tree(context).ink)
+    Panel.__name__ = f"{space}_PT_blobtree_ink_style"
+    Panel.bl_idname = Panel.__name__
+    return Panel
+
+
+def _layers_panel(space, parent):
+    class Panel(_Sidebar, bpy.types.Panel):
+        bl_label = "Ink Layers"
+        bl_space_type = space
+        bl_parent_id = parent
+
+        @classmethod
+        def poll(cls, context):
+            return shown_tree(context) is not None
+
+        def draw(self, context):
+            _draw_layers(self.layout, shown_tree(context))
+    Panel.__name__ = f"{space}_PT_blobtree_ink_layers"
+    Panel.bl_idname = Panel.__name__
+    return Panel
+
+
+classes = (VIEW3D_PT_blobtree_ink, _style_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
+           _layers_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
+           NODE_PT_blobtree_ink, _style_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"),
+           _layers_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"))

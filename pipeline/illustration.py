@@ -77,6 +77,10 @@ class Illustration:
         self.layers = {}               # layer name -> strokes finished
         self.outline_set = None        # the visible outlines (a StrokeSet), once that stage ran
         self.warnings = []
+        if PLACE_STROKES in self.job.kinds and not self.job.stroke_switches():
+            self.warnings.append("the style draws no strokes: turn on Hatching, Stipples, Chain Strokes or "
+                                 "Short Strokes, or pick a preset")
+        self.owned = self.job.owned_layers()
         self.stages = self._plan()
         self.at = 0                    # the stage being worked on
         self.completed = []            # the stages done (a stop skips the rest)
@@ -154,6 +158,7 @@ class Illustration:
         j = self.job
         self.line_radius = line_radius(self.ev)
         self.session = Session(self.ev, j.view, j.settings)
+        self._check_regions(self.session.snapshot(stitch=False).vertices)
         if j.wants_outlines():
             for r in j.requests:
                 if r.kind == FIND_FEATURES:
@@ -162,6 +167,19 @@ class Illustration:
         if "sampling" not in self.stages:
             self.sampling = self.session.snapshot()
         self._next()
+
+    def _check_regions(self, vertices):
+        """A region request whose region holds no part of the surface (none of the rough
+        mesh's vertices) says so; Place Strokes then draws nothing and replaces nothing."""
+        for r in self.job.requests:
+            if r.region is None or r.region.contains(vertices).any():
+                continue
+            what = "Place Strokes draws nothing" if r.kind == PLACE_STROKES else "no more detail is looked for"
+            self.warnings.append(f"the region holds no part of the model's surface: {what}")
+            if r.kind == PLACE_STROKES:
+                strokes = set(STROKE_STAGES)
+                self.stages = self.stages[:self.at + 1] + [s for s in self.stages[self.at + 1:] if s not in strokes]
+                self.owned = tuple(x for x in self.owned if x not in STYLE_LAYERS.values())
 
     def _sampling(self):
         s = self.session
@@ -254,16 +272,20 @@ class Illustration:
 
     @staticmethod
     def _sampled(sampling):
-        """The share of the sampling done: the blackboard's seeds taken so far."""
+        """The share of the sampling done: half the share of the blackboard's seeds taken
+        so far, half the share of the tasks started that have ended (the agents take
+        most seeds at once and then trace them over many iterations)."""
         p = sampling.progress
-        return p["seeds_taken"] / p["seeds"] if p.get("seeds") else 0.0
+        seeds = p["seeds_taken"] / p["seeds"] if p.get("seeds") else 0.0
+        tasks = p["tasks_ended"] / p["tasks_started"] if p.get("tasks_started") else 0.0
+        return 0.5 * (seeds + tasks)
 
     def result(self):
         """What is made so far as a :class:`Result` (strokes, the layers the job owns and
         adds to, progress, warnings)."""
         j = self.job
         out = StrokeSet()
-        owned = j.owned_layers()
+        owned = self.owned
         current = self._current()
         if self.outline_set is None and current is not None and "outlines" in self.stages:
             # still tracing: the outlines found so far as they are (hidden lines go at the end)

@@ -98,12 +98,10 @@ class Job:
         return bool({OUTLINES, FIND_FEATURES} & set(self.kinds)) or (PLACE_STROKES in self.kinds and self.style.chains)
 
     def stroke_switches(self):
-        """The style's stroke layers a PLACE_STROKES request draws (hatching when the
-        style names none)."""
+        """The style's stroke layers a PLACE_STROKES request draws."""
         if PLACE_STROKES not in self.kinds:
             return ()
-        on = tuple(k for k in ("hatching", "chains", "short", "stipples") if getattr(self.style, k))
-        return on or ("hatching",)
+        return tuple(k for k in ("hatching", "chains", "short", "stipples") if getattr(self.style, k))
 
     def owned_layers(self):
         """The layers this job's result replaces as a whole, even where it draws nothing

@@ -16,7 +16,7 @@ from ..agents import steering as st
 from .data import Stroke
 from .visibility import split_visible_many, visible
 
-FIELDS = ("dir1", "dir2", "contour", "axis", "straight")
+FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
 
 
 def lighting(normals, light_dir):
@@ -42,13 +42,17 @@ def tone(shade, upper, radius, contrast=1.0):
 
 def direction_field(kind, axis=None, eye=None):
     """A flow field for smarticles: "dir1"/"dir2" principal directions, "axis" (a user
-    axis projected on the surface), "contour" (tangent and across the view direction),
-    or "straight" (keep the current heading: the path of the initial direction)."""
+    axis projected on the surface), "level" (the level lines of that axis: across it on
+    the surface, horizontal for the vertical axis), "contour" (tangent and across the
+    view direction), or "straight" (keep the current heading: the path of the initial
+    direction)."""
     if kind in ("dir1", "dir2"):
         return lambda P, N, c: np.asarray(c[kind])
-    if kind == "axis":
+    if kind in ("axis", "level"):
         if axis is None or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) == 0:
-            raise ValueError(f"the axis flow field needs a finite non-zero axis, got {axis!r}")
+            raise ValueError(f"the {kind} flow field needs a finite non-zero axis, got {axis!r}")
+        if kind == "level":
+            return lambda P, N, c: st.contour_field(N, np.broadcast_to(st.unit(np.asarray(axis, float)), N.shape))
         return lambda P, N, c: st.axis_field(N, axis)
     if kind == "contour":
         if eye is None:

@@ -28,7 +28,7 @@ class Style:
     stipples: bool = False
     chains: bool = False                 # strokes started from the feature chains
     short: bool = False                  # short strokes centred on polygon centres
-    hatch_field: str = "dir1"            # dir1, dir2, contour, axis, straight
+    hatch_field: str = "dir1"            # dir1, dir2, contour, axis, level, straight
     hatch_axis: tuple = (0.0, 0.0, 1.0)
     cross_hatching: bool = True          # a second layer along cross_field in the darkest shade
     cross_field: str = "dir2"
@@ -97,7 +97,7 @@ STYLES = {
                      shade_upper=0.65),                                     # Smarticles fig. 4 (sketching)
     "silhouette-shading": Style(chains=True, chain_step=2),                # Smarticles fig. 3 left
     "short-strokes": Style(short=True, stipples=True),                     # MASSRIS fig. 1 (jug)
-    "technical": Style(hatching=True, hatch_field="axis", cross_hatching=False),   # Smarticles fig. 3 right
+    "technical": Style(hatching=True, hatch_field="level", cross_hatching=False),  # horizontal (Smarticles fig. 3 right)
     "contour": Style(hatching=True, hatch_field="contour", cross_hatching=False),
 }
 

@@ -259,7 +259,9 @@ def test_preview_rebuilds_once_after_a_burst_of_edits(ext):
     assert changes.run_due(float("inf")) == []
     obj = t.preview_object
     assert obj is not None and len(obj.data.polygons) > 100
-    assert obj.users_collection[0].name == preview.COLLECTION
+    assert obj.users_collection[0] == t.collection          # the tree's own collection, in BlobTree Ink's
+    assert t.collection.name in bpy.data.collections[preview.COLLECTION].children
+    assert obj.hide_render and [m.name for m in obj.data.materials] == [preview.PAPER_MATERIAL]
     # the mesh lies on the surface of the edited model
     M = mod(ext, "model")
     comp = mod(ext, "blobtree_nodes.compile")
