@@ -40,7 +40,7 @@ from .sampling import Sampling
 from .surface import Surface
 from .traces import Traces
 
-REQUESTS = ("OUTLINES", "SINGLE_STROKE", "PLACE_STROKES", "FIND_FEATURES")
+REQUESTS = ("OUTLINES", "FIND_FEATURES")      # the requests a sampling session serves (MASSRIS Table 1)
 DETAIL_AFTER = 4            # traces left when the detail phase may start
 
 
@@ -69,6 +69,8 @@ class Settings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and np.isfinite(v) and lo <= v <= hi):
                 raise ValueError(f"{name} must be a number from {lo} to {hi}, got {v!r}")
+        if isinstance(self.seed, bool) or not (isinstance(self.seed, (int, np.integer)) and 0 <= self.seed < 2**63):
+            raise ValueError(f"seed must be a whole number from 0, got {self.seed!r}")
         if not (isinstance(self.subdivide, (int, np.integer)) and (self.subdivide == 0 or 2 <= self.subdivide <= 16)):
             raise ValueError(f"subdivide must be 0 or a whole number from 2 to 16, got {self.subdivide!r}")
         bad = [k for k in self.kinds if k not in FEATURE_KINDS]
@@ -303,6 +305,8 @@ class Session:
         ``stitch`` the outlines are the traces' fragments as they are (a live view while
         tracing: stitching every iteration would cost more than the iteration)."""
         outs = self.outlines() if stitch else self.traces.done + self.traces.active_outlines()
+        for a in (self.mesh.vertices, self.mesh.quads, self.vertex_normals, *self.vertex_curvature.values()):
+            a.setflags(write=False)            # handed out: a reader cannot change the session's arrays
         return Sampling(outlines=outs, vertices=self.mesh.vertices, quads=self.mesh.quads,
                         vertex_normals=self.vertex_normals, vertex_curvature=dict(self.vertex_curvature),
                         cell=self.h, progress=self.progress(outs), done=self.done)

@@ -6,6 +6,8 @@ from ..agents.session import Settings as _RunSettings
 from ..strokes import smarticles as sm
 from ..strokes import style as ST
 
+_STYLE = ST.Style()              # the style's defaults are the properties' defaults
+
 # Style settings mirrored as properties (the rest of Style keeps its defaults). A preset
 # sets these and nothing else: never the grid, agents, level of detail or seed.
 STYLE_PROPS = ("hatching", "stipples", "chains", "short", "hatch_field", "hatch_axis", "cross_hatching", "cross_field",
@@ -110,7 +112,7 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         description="How much the agents favour flat, quiet parts of the surface against its busy parts "
                     "(MASSRIS's user level of detail, 0 to 1)")
     seed: bpy.props.IntProperty(
-        name="Seed", default=0, min=0,
+        name="Seed", default=_RunSettings.seed, min=0,
         description="Seed of the random choices (exploring agents, which strokes go in the penumbra, wander): "
                     "the same seed draws the same strokes")
     use_camera: bpy.props.BoolProperty(
@@ -136,56 +138,56 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         name="Render Preview Mesh", default=False, update=_render_preview,
         description="Render the preview mesh too (off: only the ink shows in renders)")
     # --- style (strokes.style.Style) ---
-    hatching: bpy.props.BoolProperty(name="Hatching", default=False,
+    hatching: bpy.props.BoolProperty(name="Hatching", default=_STYLE.hatching,
                                      description="Place Strokes draws hatching in the shaded regions")
-    stipples: bpy.props.BoolProperty(name="Stipples", default=False,
+    stipples: bpy.props.BoolProperty(name="Stipples", default=_STYLE.stipples,
                                      description="Place Strokes draws stipples from wandering smarticles in the shade")
-    chains: bpy.props.BoolProperty(name="Chain Strokes", default=False,
+    chains: bpy.props.BoolProperty(name="Chain Strokes", default=_STYLE.chains,
                                    description="Place Strokes draws strokes started from the silhouette and crease "
                                                "chains (traces the outlines first)")
-    short: bpy.props.BoolProperty(name="Short Strokes", default=False,
+    short: bpy.props.BoolProperty(name="Short Strokes", default=_STYLE.short,
                                   description="Place Strokes draws short strokes centred on the polygon centres")
-    hatch_field: bpy.props.EnumProperty(name="Flow Field", default="DIR1", items=FIELD_ITEMS,
+    hatch_field: bpy.props.EnumProperty(name="Flow Field", default=_STYLE.hatch_field.upper(), items=FIELD_ITEMS,
                                         description="The direction hatching and short strokes follow")
-    cross_field: bpy.props.EnumProperty(name="Cross Field", default="DIR2", items=FIELD_ITEMS,
+    cross_field: bpy.props.EnumProperty(name="Cross Field", default=_STYLE.cross_field.upper(), items=FIELD_ITEMS,
                                         description="The direction of the cross-hatching")
-    hatch_axis: bpy.props.FloatVectorProperty(name="Axis", default=(0.0, 0.0, 1.0), size=3, subtype="DIRECTION",
+    hatch_axis: bpy.props.FloatVectorProperty(name="Axis", default=_STYLE.hatch_axis, size=3, subtype="DIRECTION",
                                               description="The axis of the Axis and Level Lines flow fields")
-    cross_hatching: bpy.props.BoolProperty(name="Cross-Hatching", default=True,
+    cross_hatching: bpy.props.BoolProperty(name="Cross-Hatching", default=_STYLE.cross_hatching,
                                            description="A second hatching layer in the darkest shade")
-    surface: bpy.props.EnumProperty(name="Hatch Where", default="ALL",
+    surface: bpy.props.EnumProperty(name="Hatch Where", default=_STYLE.surface.upper(),
                                     description="Where hatching starts (and, when limited, where it stops: at a "
                                                 "change of the curvature's sign)",
                                     items=[("ALL", "All", "Hatch anywhere in shade"),
                                            ("CONVEX", "Convex", "Only convex regions"),
                                            ("CONCAVE", "Concave", "Only concave regions")])
     weights: bpy.props.EnumProperty(
-        name="Steering", default="HATCHING",
+        name="Steering", default=_STYLE.weights.upper(),
         description="How the smarticles steer: a preset of behaviour weights, or custom weights",
         items=[(k.upper(), k.title(), f"The {k} steering weights") for k in sm.PRESETS] +
               [("CUSTOM", "Custom", "The weights below")])
-    w_flow: _weight("flow", 1.0)
-    w_wander: _weight("wander", 0.0)
-    w_separation: _weight("separation", 0.0)
-    w_alignment: _weight("alignment", 0.0)
-    w_cohesion: _weight("cohesion", 0.0)
-    w_containment: _weight("containment", 0.0)
-    flock_size: bpy.props.IntProperty(name="Flock Size", default=1, min=1, max=64,
+    w_flow: _weight("flow", sm.PRESETS["hatching"]["flow"])
+    w_wander: _weight("wander", sm.PRESETS["hatching"]["wander"])
+    w_separation: _weight("separation", sm.PRESETS["hatching"]["separation"])
+    w_alignment: _weight("alignment", sm.PRESETS["hatching"]["alignment"])
+    w_cohesion: _weight("cohesion", sm.PRESETS["hatching"]["cohesion"])
+    w_containment: _weight("containment", sm.PRESETS["hatching"].get("containment", 0.0))
+    flock_size: bpy.props.IntProperty(name="Flock Size", default=_STYLE.flock_size, min=1, max=64,
                                       description="Smarticles per flock, side by side (1: single smarticles)")
-    shade_lower: bpy.props.FloatProperty(name="Shade Lower", default=0.25, min=0.0, max=1.0,
+    shade_lower: bpy.props.FloatProperty(name="Shade Lower", default=_STYLE.shade_lower, min=0.0, max=1.0,
                                          description="Below this light every start gets a stroke")
-    shade_upper: bpy.props.FloatProperty(name="Shade Upper", default=0.6, min=0.0, max=1.0,
+    shade_upper: bpy.props.FloatProperty(name="Shade Upper", default=_STYLE.shade_upper, min=0.0, max=1.0,
                                          description="Above this light no stroke (between: the penumbra, at random)")
-    chain_step: bpy.props.IntProperty(name="Chain Step", default=3, min=1, max=10000,
+    chain_step: bpy.props.IntProperty(name="Chain Step", default=_STYLE.chain_step, min=1, max=10000,
                                       description="Every n-th point of the feature chains starts a stroke")
-    chain_angle: bpy.props.FloatProperty(name="Chain Angle", default=90.0, min=-180.0, max=180.0,
+    chain_angle: bpy.props.FloatProperty(name="Chain Angle", default=_STYLE.chain_angle, min=-180.0, max=180.0,
                                          description="Degrees between a feature chain and the strokes started from it")
-    stipple_every: bpy.props.IntProperty(name="Stipple Every", default=3, min=1, max=1000,
+    stipple_every: bpy.props.IntProperty(name="Stipple Every", default=_STYLE.stipple_every, min=1, max=1000,
                                          description="A stipple at every k-th step of a wandering smarticle")
-    line_width: bpy.props.FloatProperty(name="Line Width", default=1.0, min=0.01, max=100.0,
+    line_width: bpy.props.FloatProperty(name="Line Width", default=_STYLE.line_width, min=0.01, max=100.0,
                                         description="Width of every line and dot, times the base width (0.0025 of "
                                                     "the model's size)")
-    contrast: bpy.props.FloatProperty(name="Light Contrast", default=1.0, min=0.0, max=1.0,
+    contrast: bpy.props.FloatProperty(name="Light Contrast", default=_STYLE.contrast, min=0.0, max=1.0,
                                       description="How much the light sets stroke width and opacity (0: uniform)")
 
 

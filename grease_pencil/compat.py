@@ -6,7 +6,7 @@ place.
 - 5.2 places a DOTS material's dots along a stroke's segments (``placement_mode``), and
   a new material's default (RADIUS, one dot per spacing) gives a one-point stroke none:
   stipples drew nothing in the viewport or in a render. COUNT with one dot per stroke
-  draws a one-point stroke as before (it is what 5.2 makes of a DOTS material saved
+  draws a one-point stroke as a dot (it is what 5.2 makes of a DOTS material saved
   by 5.0). Earlier versions have no placement settings.
 """
 import bpy

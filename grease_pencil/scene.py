@@ -53,7 +53,7 @@ def unpaper(scene, was):
     scene.render.film_transparent = d["film_transparent"]
 
 
-def setup(scene, centre, eye, size=1024, light_dir=(0.4, -0.6, 0.7)):
+def setup(scene, centre, eye, size, light_dir):
     cam = bpy.data.objects.get(CAMERA)
     if cam is None:
         cam = bpy.data.objects.new(CAMERA, bpy.data.cameras.new(CAMERA))

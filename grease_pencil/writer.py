@@ -12,7 +12,7 @@ strokes) a DOTS material set up to draw in this Blender (grease_pencil.compat).
 import bpy
 import numpy as np
 
-from ..strokes.data import LAYERS
+from ..strokes.data import LAYERS, STROKE_LAYERS
 from . import compat
 
 INK = (0.02, 0.02, 0.03, 1.0)
@@ -84,12 +84,15 @@ def _frame(layer, number):
 
 
 def write(obj, result, frame=1):
-    """Write a pipeline Result on ``frame``: its owned layers replaced, its appended ones
-    added to, the others untouched."""
+    """Write a pipeline Result on ``frame``: its owned layers replaced (the stroke layers'
+    strokes in its region only, when it has one), its appended ones added to, the others
+    untouched."""
     for name in result.owned:
-        write_layer(obj, name, result.strokes.layers.get(name, []), frame)
+        region = result.region if name in STROKE_LAYERS else None
+        write_layer(obj, name, result.strokes.layers.get(name, []), frame,
+                    keep=None if region is None else lambda P, r=region: ~r.contains(P))
     for name in result.appended:
-        write_layer(obj, name, result.strokes.layers.get(name, []), frame, append=True)
+        write_layer(obj, name, result.strokes.layers.get(name, []), frame, keep=lambda P: np.ones(len(P), bool))
     return obj
 
 
@@ -100,7 +103,7 @@ def write_set(obj, stroke_set, frame=1):
     return obj
 
 
-def _read(drawing, name, n, dtype, width=1, default=0):
+def _values(drawing, name, n, dtype, width=1, default=0):
     """An attribute's values as a flat array (``default`` where the drawing has none)."""
     attr = drawing.attributes.get(name)
     out = np.full(n * width, default, dtype)
@@ -109,44 +112,46 @@ def _read(drawing, name, n, dtype, width=1, default=0):
     return out
 
 
-def write_layer(obj, name, strokes, frame=1, append=False):
-    """The drawing of layer ``name`` on ``frame`` becomes these strokes (with ``append``:
-    the strokes it has, then these)."""
+def _attribute(drawing, name, kind, domain):
+    return drawing.attributes.get(name) or drawing.attributes.new(name, kind, domain)
+
+
+def write_layer(obj, name, strokes, frame=1, keep=None):
+    """The drawing of layer ``name`` on ``frame`` gets these strokes. Its strokes are
+    removed first, all of them, or with ``keep`` (points (k, 3) -> which to keep, per
+    point) those with a point not kept; the strokes that stay are not touched."""
     gp = obj.data
     mats = [m.name if m is not None else "" for m in gp.materials]
     line_i, dots_i = mats.index(LINE_MATERIAL), mats.index(DOTS_MATERIAL)
     drawing = _frame(gp.layers[name], frame).drawing
-    keep = {}
-    if append and len(drawing.strokes):
-        npts = len(drawing.attributes["position"].data)
-        ncurves = len(drawing.strokes)
-        keep = {"position": _read(drawing, "position", npts, np.float32, 3),
-                "radius": _read(drawing, "radius", npts, np.float32),
-                "opacity": _read(drawing, "opacity", npts, np.float32, default=1),
-                "cyclic": _read(drawing, "cyclic", ncurves, bool),
-                "material_index": _read(drawing, "material_index", ncurves, np.int32),
-                "sizes": [len(s.points) for s in drawing.strokes]}
-    if len(drawing.strokes):
-        drawing.remove_strokes()
-    if not strokes and not keep:
-        obj.data.update_tag()
-        return
-    sizes = keep.get("sizes", []) + [len(s.points) for s in strokes]
-    drawing.add_strokes(sizes)
-
-    def cat(old, new, dtype):
-        parts = ([old] if old is not None else []) + ([np.asarray(new, dtype)] if len(new) else [])
-        return np.concatenate(parts) if parts else np.zeros(0, dtype)
-    pos = cat(keep.get("position"), np.concatenate([np.asarray(s.points, np.float32).ravel() for s in strokes])
-              if strokes else [], np.float32)
-    drawing.attributes["position"].data.foreach_set("vector", pos)
-    for attr, values in (("radius", [s.radius for s in strokes]), ("opacity", [s.opacity for s in strokes])):
-        a = drawing.attributes.get(attr) or drawing.attributes.new(attr, "FLOAT", "POINT")
-        a.data.foreach_set("value", cat(keep.get(attr), np.concatenate(values) if values else [], np.float32))
-    cyc = drawing.attributes.get("cyclic") or drawing.attributes.new("cyclic", "BOOLEAN", "CURVE")
-    cyc.data.foreach_set("value", cat(keep.get("cyclic"), [bool(s.cyclic) for s in strokes], bool))
-    mi = drawing.attributes.get("material_index") or drawing.attributes.new("material_index", "INT", "CURVE")
-    mi.data.foreach_set("value", cat(keep.get("material_index"), [dots_i if s.dots else line_i for s in strokes],
-                                     np.int32))
-    drawing.tag_positions_changed()
+    n = len(drawing.strokes)
+    if n:
+        if keep is None:
+            drawing.remove_strokes()
+        else:
+            off = np.zeros(n + 1, np.int32)
+            drawing.curve_offsets.foreach_get("value", off)
+            ok = keep(_values(drawing, "position", int(off[-1]), np.float32, 3).reshape(-1, 3)).astype(np.int64)
+            whole = np.add.reduceat(ok, off[:-1]) == np.diff(off) if off[-1] else np.ones(n, bool)
+            gone = np.flatnonzero(~whole)
+            if len(gone):
+                drawing.remove_strokes(indices=gone.tolist())
+    if strokes:
+        c0 = len(drawing.strokes)
+        p0 = len(drawing.attributes["position"].data) if c0 else 0
+        drawing.add_strokes([len(s.points) for s in strokes])
+        p1, c1 = len(drawing.attributes["position"].data), len(drawing.strokes)
+        for attr, kind, domain, width, dtype, new in (
+                ("position", "FLOAT_VECTOR", "POINT", 3, np.float32,
+                 np.concatenate([np.asarray(s.points, np.float32).reshape(-1, 3) for s in strokes])),
+                ("radius", "FLOAT", "POINT", 1, np.float32, np.concatenate([s.radius for s in strokes])),
+                ("opacity", "FLOAT", "POINT", 1, np.float32, np.concatenate([s.opacity for s in strokes])),
+                ("cyclic", "BOOLEAN", "CURVE", 1, bool, [bool(s.cyclic) for s in strokes]),
+                ("material_index", "INT", "CURVE", 1, np.int32, [dots_i if s.dots else line_i for s in strokes])):
+            total, first = (p1, p0) if domain == "POINT" else (c1, c0)
+            a = _attribute(drawing, attr, kind, domain)
+            values = _values(drawing, attr, total, dtype, width, default=1 if attr == "opacity" else 0)
+            values[first * width:] = np.asarray(new, dtype).ravel()
+            a.data.foreach_set("vector" if width == 3 else "value", values)
+        drawing.tag_positions_changed()
     obj.data.update_tag()

@@ -20,6 +20,7 @@ first and its strokes are drawn (with the outlines where none are drawn yet), in
 same undo step. With the tree's Paper on, the scene is put on white paper.
 """
 import time
+import traceback
 
 import bpy
 import numpy as np
@@ -50,6 +51,8 @@ REQUESTS = [("OUTLINES", "Trace Feature Outlines",
 REQUEST_TIPS = {k: tip for k, _, tip in REQUESTS}
 NO_PRESET = "NONE"
 TICK = 0.05                 # seconds between the modal timer's ticks
+CANCEL_WAIT = 2.0           # seconds a cancelled run waits for its worker
+START_ERRORS = (LookupError, TreeError, PL.JobError, PL.NothingToDraw, ValueError)   # what the artist can mend
 last_run = {}               # figures of the latest run (module state, read by the panel and tests)
 
 
@@ -95,9 +98,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             apply_preset(ink, self.preset)
         model = compile_tree(tree)
         ev = Evaluator(model)
-        eye = jobs.camera_eye(context.scene) if ink.use_camera else None
-        if eye is None:
-            eye = jobs.viewport_eye(context)
+        eye = jobs.camera_eye(context.scene) if ink.use_camera else jobs.viewport_eye(context, PL.bounds(ev)[1])
+        if eye is None and not ink.use_camera:
+            raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it from "
+                              "the 3D viewport, or switch From Camera on")
         requests = self._requests(context, tree, ev)
         job = jobs.job(ev, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye)
         self.illustration = PL.Illustration(job)
@@ -133,11 +137,12 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     def execute(self, context):
         try:
             self._start(context)
-            result = self.illustration.run()
-        except (LookupError, TreeError, PL.JobError, PL.NothingToDraw, ValueError) as e:
+        except START_ERRORS as e:
             return self._failed(e)
+        try:
+            result = self.illustration.run()
         finally:
-            region_overlay.show(getattr(self, "tree_key", ""), [])
+            region_overlay.show(self.tree_key, [])
         self._figures(result.progress)
         self._write(result)
         self._report_done("done", result.warnings)
@@ -148,7 +153,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return self.execute(context)
         try:
             self._start(context)
-        except (LookupError, TreeError, PL.JobError, PL.NothingToDraw, ValueError) as e:
+        except START_ERRORS as e:
             return self._failed(e)
         self.runner = PL.Runner(self.illustration).start()
         self.shown = None
@@ -160,6 +165,14 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
+        try:
+            return self._tick(context, event)
+        except Exception as e:             # a tick that fails ends the run, said and printed
+            traceback.print_exc()
+            self.report({"ERROR"}, f"the illustration stopped: {e!r}")
+            return self._end(context, "failed")
+
+    def _tick(self, context, event):
         if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS" and self.stopping is None:
             self.stopping = "stopped"
             self.runner.stop()             # the worker draws the visible outlines so far, then ends
@@ -172,32 +185,32 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self.report({"WARNING"}, "the BlobTree changed: illustration stopped")
             self.stopping = "tree edited"
             self.runner.stop()
-        try:
-            self.runner.check()
-        except PL.RunnerError as e:
-            self.report({"ERROR"}, str(e))
-            return self._end(context, "failed")
         if self.runner.finished:
             return self._end(context, self.stopping or "done")
         result = self.runner.latest()
         if result is not None and result is not self.shown:
-            self._write(result)
-            self.shown = result
-            pr = self._figures(result.progress)
-            context.window_manager.progress_update(100.0 * pr.fraction)
-            what = "stopping: removing hidden lines" if self.stopping else pr.stage
-            context.workspace.status_text_set(
-                f"BlobTree Ink: {100 * pr.fraction:.0f} % ({what}, stage {min(pr.stage_index + 1, pr.stages)} "
-                f"of {pr.stages}; iteration {pr.iterations})  Esc: stop and keep")
+            self._show(context, result)
         tick_ms = 1000 * (time.perf_counter() - t0)
         last_run["ticks"] += 1
         last_run["max_tick_ms"] = max(last_run["max_tick_ms"], tick_ms)
         return {"RUNNING_MODAL"}
 
+    def _show(self, context, result):
+        """Write a result (once: a single stroke is added to its layer) and its figures."""
+        self._write(result)
+        self.shown = result
+        pr = self._figures(result.progress)
+        context.window_manager.progress_update(100.0 * pr.fraction)
+        what = "stopping: removing hidden lines" if self.stopping else pr.stage
+        context.workspace.status_text_set(
+            f"BlobTree Ink: {100 * pr.fraction:.0f} % ({what}, stage {min(pr.stage_index + 1, pr.stages)} "
+            f"of {pr.stages}; iteration {pr.iterations})  Esc: stop and keep")
+
     def _end(self, context, state):
         t0 = time.perf_counter()
         try:
             self.runner.join()
+            self.runner.check()
         except PL.RunnerError as e:
             self.report({"ERROR"}, str(e))
             state = "failed"
@@ -208,24 +221,30 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         region_overlay.show(self.tree_key, [])
         result = self.runner.latest()
         warnings = []
-        if result is not None:
+        if result is not None and state != "failed":
+            if result is not self.shown:
+                self._write(result)        # what was made, kept
             self._figures(result.progress)
-            self._write(result)            # what was made, kept
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
-        self._report_done(state, warnings)
+        self._report_done(state, warnings + self.runner.notes)
         return {"FINISHED"}                # keep what was made, as one undo step
 
     def cancel(self, context):
         """Blender cancels a modal operator when its window closes or a file loads: the
-        worker ends after its current step and the timer goes (no drawing: the data
+        worker is asked to end after its current step (it touches no Blender data, so
+        the UI waits for it only briefly) and the timer goes; nothing is drawn (the data
         may be gone)."""
         self.runner.cancel()
         try:
-            self.runner.join()
+            self.runner.join(CANCEL_WAIT)
+        except PL.RunnerError as e:
+            print(f"BlobTree Ink: {e}; it ends on its own")
         finally:
             context.window_manager.event_timer_remove(self.timer)
             context.window_manager.progress_end()
+            if context.workspace is not None:
+                context.workspace.status_text_set(None)
             region_overlay.show(self.tree_key, [])
             last_run["state"] = "cancelled"
 

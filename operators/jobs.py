@@ -17,12 +17,22 @@ def camera_eye(scene):
     return None if cam is None else np.array(cam.matrix_world.translation, float)
 
 
-def viewport_eye(context):
-    """The 3D viewport's eye (a perspective view), or None."""
+ORTHO_DISTANCE = 100.0      # an orthographic view's eye: this many model radii back along its direction
+
+
+def viewport_eye(context, radius):
+    """The 3D viewport's eye, or None outside a 3D viewport. An orthographic view is
+    drawn from an eye far back along its direction (ORTHO_DISTANCE model radii: its
+    silhouettes are those of parallel rays to within a hundredth)."""
     rv3d = getattr(context, "region_data", None)
-    if rv3d is not None and hasattr(rv3d, "view_matrix") and rv3d.is_perspective:
-        return np.array(rv3d.view_matrix.inverted().translation, float)
-    return None
+    if rv3d is None or not hasattr(rv3d, "view_matrix"):
+        return None
+    inv = rv3d.view_matrix.inverted()
+    if rv3d.is_perspective:
+        return np.array(inv.translation, float)
+    back = np.array(inv.to_3x3() @ Vector((0.0, 0.0, 1.0)), float)       # the view looks along -z
+    centre = np.array(rv3d.view_location, float)
+    return centre + ORTHO_DISTANCE * radius * back / np.linalg.norm(back)
 
 
 def scene_light(scene, centre, eye):

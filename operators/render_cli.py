@@ -24,7 +24,7 @@ def requests_of(style):
     out = []
     if style.outlines:
         out.append(PL.Request(PL.OUTLINES))
-    if style.hatching or style.stipples or style.chains or style.short:
+    if style.stroke_switches():
         out.append(PL.Request(PL.PLACE_STROKES))
     if not out:
         raise CliError("the style draws nothing: give it outlines or some strokes (--requests)")
@@ -40,11 +40,11 @@ def render(spec, log):
         raise CliError(str(e)) from None
     requests = requests_of(spec.style)
     out_dir = spec.out
-    if not os.path.isdir(out_dir):
-        parent = os.path.dirname(os.path.abspath(out_dir))
-        if not os.path.isdir(parent):
-            raise CliError(f"output directory {out_dir} does not exist (nor does its parent)")
-        os.mkdir(out_dir)
+    parent = os.path.dirname(os.path.abspath(out_dir))
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise CliError(f"output directory {out_dir} is a file")
+    if not os.path.isdir(out_dir) and not os.path.isdir(parent):
+        raise CliError(f"output directory {out_dir} does not exist (nor does its parent)")
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", model.name) or "model"
     t0 = time.perf_counter()
     ev = Evaluator(model)
@@ -74,12 +74,15 @@ def render(spec, log):
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
     nudge = OUT.sideways(eye, centre, 0.01 * ill.line_radius)
     try:
+        os.makedirs(out_dir, exist_ok=True)
         OUT.atomic(paths["png"], lambda tmp: OUT.render_png(sc, tmp))
         OUT.atomic(paths["svg"], lambda tmp: OUT.export_svg(obj, tmp, result.strokes.layers["Stipples"],
                                                              sc.frame_current, nudge))
         OUT.atomic(paths["blend"], OUT.save_blend)
-    except OUT.OutputError as e:
-        raise CliError(str(e)) from None
+    except OSError as e:
+        raise CliError(f"cannot write to {out_dir}: {e.strerror or e}") from None
+    except (OUT.OutputError, RuntimeError) as e:     # RuntimeError: what Blender's operators raise
+        raise CliError(f"Blender could not write the outputs: {e}") from None
     log("strokes: " + ", ".join(f"{k} {len(v)}" for k, v in result.strokes.layers.items() if v) +
         f"; wrote {', '.join(paths.values())} ({time.perf_counter() - t0:.1f} s)")
     return 0

@@ -24,9 +24,9 @@ def bounds(ev):
     return 0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo))
 
 
-def line_radius(ev, width=1.0):
-    """The radius of a line of the given width factor (strokes.style.Style.line_width)."""
-    return LINE_RADIUS * bounds(ev)[1] * width
+def line_radius(ev):
+    """The radius of a line of width 1 (strokes.style.Style.line_width scales it)."""
+    return LINE_RADIUS * bounds(ev)[1]
 
 
 def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, sensor=SENSOR, margin=MARGIN):

@@ -1,6 +1,6 @@
 """The illustration pipeline: a resumable stepper from a :class:`~.job.Job` to plain
 strokes by layer. The modal operator (on its worker thread), the background operator,
-the command line and the frame handler all drive this one stepper, so the same job
+and the command line all drive this one stepper, so the same job
 gives the same strokes whichever path draws.
 
     ill = Illustration(job)            # cheap: nothing is computed yet
@@ -52,8 +52,9 @@ class Progress:
 @dataclass
 class Result:
     """Plain strokes by layer: ``owned`` layers are replaced as a whole by the result's
-    (also where it has none on one), ``appended`` ones are added to; the others are not
-    the job's. ``done``: the run reached its end (not stopped)."""
+    (also where it has none on one; with a ``region``, the owned stroke layers' strokes
+    in that region), ``appended`` ones are added to; the others are not the job's.
+    ``done``: the run reached its end (not stopped)."""
     strokes: StrokeSet
     owned: tuple
     appended: tuple
@@ -61,6 +62,8 @@ class Result:
     warnings: list = field(default_factory=list)
     done: bool = False
     stopped: bool = False
+    region: object = None      # where the owned stroke layers were drawn (None: the whole model): only
+                               # their strokes there are replaced
 
 
 class Illustration:
@@ -89,15 +92,15 @@ class Illustration:
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
-        self._t0 = None
         self._seconds = 0.0
+        self._sampling_seconds = 0.0   # the agents' iterations alone (the job's time budget)
 
     def _plan(self):
         j = self.job
         stages = ["init"]
         if j.wants_outlines():
             stages.append("sampling")
-        if {OUTLINES, FIND_FEATURES} & set(j.kinds):
+        if j.wants_outline_layers():
             stages.append("outlines")
         for switch in j.stroke_switches():
             stages.append(switch)
@@ -122,15 +125,16 @@ class Illustration:
         if self.finished:
             return False
         t = time.perf_counter()
-        if self._t0 is None:
-            self._t0 = t
         stage = self.stage
         if self.stopping and stage not in ("init", "outlines"):
             if stage == "sampling" and "outlines" in self.stages:
                 self.sampling = self.session.snapshot()
                 self.at = self.stages.index("outlines")
             else:
+                if self._parts:                # a layer stopped part-way: what it drew stays its own
+                    self.completed.append(stage)
                 self.at = len(self.stages)
+            self._parts = None
             stage = self.stage
         if self.stopping and stage == "init":
             self.at = len(self.stages)
@@ -139,7 +143,10 @@ class Illustration:
             self.finished = True
             return False
         getattr(self, "_" + stage.replace("-", "_"))()
-        self._seconds += time.perf_counter() - t
+        took = time.perf_counter() - t
+        self._seconds += took
+        if stage == "sampling":
+            self._sampling_seconds += took
         if self.at >= len(self.stages):
             self.finished = True
         return not self.finished
@@ -183,7 +190,7 @@ class Illustration:
 
     def _sampling(self):
         s = self.session
-        out_of_time = self.job.seconds is not None and self._seconds >= self.job.seconds
+        out_of_time = self.job.seconds is not None and self._sampling_seconds >= self.job.seconds
         if out_of_time or not s.step() or s.done:
             self.sampling = s.snapshot()
             self._next()
@@ -205,8 +212,7 @@ class Illustration:
         self._next()
 
     def _region(self):
-        regions = [r.region for r in self.job.requests if r.kind == PLACE_STROKES]
-        return regions[0] if regions else None
+        return self.job.stroke_region()
 
     def _stroke_layer(self, layer, parts, draw, **kw):
         """One part of a stroke layer per step (the parts listed at the layer's first
@@ -285,7 +291,7 @@ class Illustration:
         adds to, progress, warnings)."""
         j = self.job
         out = StrokeSet()
-        owned = self.owned
+        owned = self._owned_now()
         current = self._current()
         if self.outline_set is None and current is not None and "outlines" in self.stages:
             # still tracing: the outlines found so far as they are (hidden lines go at the end)
@@ -296,4 +302,16 @@ class Illustration:
         for name, strokes in self.layers.items():
             out.layers[name] = list(strokes)
         return Result(out, owned, j.appended_layers(), self.progress(), list(self.warnings),
-                      done=self.finished and not self.stopping, stopped=self.stopping)
+                      done=self.finished and not self.stopping, stopped=self.stopping, region=self._region())
+
+    def _owned_now(self):
+        """The layers the result replaces now: those of the stages begun (a stopped run
+        replaces no layer it did not reach; a finished one every layer it owns)."""
+        begun = set(self.completed) | ({self.stage} if self._parts is not None or self.stage == "outlines" else set())
+        if self.stage == "sampling" and "outlines" in self.stages:
+            begun.add("outlines")              # the outlines found so far are shown while tracing
+        layers = set()
+        if "outlines" in begun:
+            layers |= {LAYER_OF_KIND[k] for k in self.job.settings.kinds}
+        layers |= {STYLE_LAYERS["hatching" if s == "cross-hatching" else s] for s in begun if s in STROKE_STAGES}
+        return tuple(x for x in self.owned if x in layers)

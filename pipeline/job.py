@@ -1,20 +1,20 @@
 """What to illustrate: a :class:`Job` (a compiled model, a view, a light, a style, the
 requests, a seed and the sampling settings), plain data checked once, and the layers
 each request draws."""
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..agents import Region, Settings
 from ..blackboard.view import View
 from ..model import Evaluator
-from ..strokes.data import LAYER_OF_KIND
-from ..strokes.style import Style
+from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
+from ..strokes.style import STROKE_SWITCHES, Style
 
 OUTLINES, PLACE_STROKES, SINGLE_STROKE, FIND_FEATURES = REQUESTS = (
     "OUTLINES", "PLACE_STROKES", "SINGLE_STROKE", "FIND_FEATURES")
 # the stroke layers each style switch draws on (strokes.data.LAYERS)
-STYLE_LAYERS = {"hatching": "Hatching", "chains": "Chains", "short": "Short Strokes", "stipples": "Stipples"}
+STYLE_LAYERS = dict(zip(STROKE_SWITCHES, STROKE_LAYERS))
 SINGLE_LAYER = "Single Strokes"
 
 
@@ -47,8 +47,9 @@ class Request:
 class Job:
     """Everything an illustration depends on. ``model``: a compiled model (an
     model.Evaluator) or a model.Model; ``view``: where the eye is (blackboard.View with
-    an eye); ``light``: a direction towards the light; ``seconds``: a time budget for
-    the sampling (None: run to the end; a budget makes the outlines depend on the
+    an eye); ``light``: a direction towards the light; ``seed``: the seed of every random
+    choice (the settings' seed is replaced by it); ``seconds``: a time budget for the
+    agents' iterations (None: run to the end; a budget makes the outlines depend on the
     machine's speed)."""
     model: object
     view: View
@@ -67,9 +68,12 @@ class Job:
             if not isinstance(r, Request):
                 raise JobError(f"requests must be pipeline.Request values, got {type(r).__name__}")
             r.check()
+        kinds = [r.kind for r in self.requests]
+        if len(set(kinds)) != len(kinds):
+            raise JobError(f"each request at most once in a job, got {', '.join(kinds)}")
         if not isinstance(self.view, View) or self.view.eye is None:
             raise JobError("the view must be a blackboard.View with an eye position")
-        if not np.all(np.isfinite(self.view.eye)):
+        if np.shape(self.view.eye) != (3,) or not np.all(np.isfinite(self.view.eye)):
             raise JobError(f"the eye must be three finite numbers, got {self.view.eye.tolist()}")
         L = np.asarray(self.light, float)
         if L.shape != (3,) or not np.all(np.isfinite(L)) or not np.linalg.norm(L) > 0:
@@ -85,23 +89,30 @@ class Job:
         except ValueError as e:
             raise JobError(str(e)) from None
         ev = self.model if isinstance(self.model, Evaluator) else Evaluator(self.model)
+        # one seed: the job's (the sampling's explorers and every stroke layer derive theirs from it)
         return Job(ev, self.view, tuple(L / np.linalg.norm(L)), self.style, tuple(self.requests), int(self.seed),
-                   self.settings, self.seconds)
+                   replace(self.settings, seed=int(self.seed)), self.seconds)
 
     @property
     def kinds(self):
         return tuple(r.kind for r in self.requests)
 
+    def wants_outline_layers(self):
+        """Whether the job draws the outline layers (an outline request)."""
+        return bool({OUTLINES, FIND_FEATURES} & set(self.kinds))
+
     def wants_outlines(self):
         """Whether the agents trace outlines: for the outline layers, or for the strokes
         started from them."""
-        return bool({OUTLINES, FIND_FEATURES} & set(self.kinds)) or (PLACE_STROKES in self.kinds and self.style.chains)
+        return self.wants_outline_layers() or (PLACE_STROKES in self.kinds and self.style.chains)
 
     def stroke_switches(self):
         """The style's stroke layers a PLACE_STROKES request draws."""
-        if PLACE_STROKES not in self.kinds:
-            return ()
-        return tuple(k for k in ("hatching", "chains", "short", "stipples") if getattr(self.style, k))
+        return self.style.stroke_switches() if PLACE_STROKES in self.kinds else ()
+
+    def stroke_region(self):
+        """The region of the PLACE_STROKES request (None: the whole model, or none)."""
+        return next((r.region for r in self.requests if r.kind == PLACE_STROKES), None)
 
     def owned_layers(self):
         """The layers this job's result replaces as a whole, even where it draws nothing
@@ -109,7 +120,7 @@ class Job:
         outline request, the layers of the style's strokes a PLACE_STROKES request draws.
         Every other layer is left as it is."""
         out = []
-        if {OUTLINES, FIND_FEATURES} & set(self.kinds):
+        if self.wants_outline_layers():
             out += [LAYER_OF_KIND[k] for k in self.settings.kinds]
         out += [STYLE_LAYERS[k] for k in self.stroke_switches()]
         return tuple(dict.fromkeys(out))

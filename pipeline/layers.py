@@ -78,14 +78,18 @@ def hatching(ev, sampling, eye, light, st, rng, line_radius, region, part, cross
 
 def chains_parts(sampling, st, region):
     near = [o for o in sampling.outlines if region is None or region.contains(o.points).any()]
-    return [near[c] for c in _chunks(len(near), CHUNK_OUTLINES)]
+    features = np.concatenate([o.points for o in near]) if near else np.zeros((0, 3))
+    return [(near[c], features) for c in _chunks(len(near), CHUNK_OUTLINES)]
 
 
 def chains(ev, sampling, eye, light, st, rng, line_radius, region, part):
-    """Strokes started from a part's feature chains."""
-    if not part:
+    """Strokes started from a part's feature chains (ending at a distance from all the
+    chains near the region)."""
+    outlines, features = part
+    if not outlines:
         return []
-    return L.chain_strokes(ev, part, eye, light, STEP * sampling.cell, rng, every=st.chain_step,
+    return L.chain_strokes(ev, outlines, eye, light, STEP * sampling.cell, rng, features=features,
+                           every=st.chain_step,
                            angle=st.chain_angle, field=st.chain_field, axis=st.hatch_axis,
                            max_distance=st.chain_distance * sampling.cell, lower=st.shade_lower,
                            upper=st.shade_upper, **_common(st, line_radius, region))

@@ -29,6 +29,7 @@ import os
 import sys
 import threading
 import time
+import traceback
 
 PUBLISH_EVERY = 0.2          # seconds between published results while a stage runs (each costs a
                              # snapshot: tens of ms on the train's thousands of fragments)
@@ -62,11 +63,14 @@ class Hold:
         self._go.set()
 
     def wait(self, steps, stop):
+        """Hold here after the armed step, until released or stopped (once: the hook is
+        disarmed as the held worker goes on)."""
         if self.after is None or steps != self.after:
             return
         self.reached.set()
         while not self._go.wait(0.05) and not stop.is_set():
             pass
+        self.after = None
 
 
 HOLD = Hold()
@@ -96,6 +100,7 @@ class Runner:
         self._error = None
         self._latest = None
         self._steps = 0
+        self.notes = []              # what the worker could not do as it wished (not errors)
         self._thread = threading.Thread(target=self._work, name="blobtree-ink-worker", daemon=True)
         self._started = False
 
@@ -111,13 +116,25 @@ class Runner:
 
     def _work(self):
         try:
-            if sys.platform.startswith("linux"):     # a thread id is a process id only on Linux
-                os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), WORKER_NICE)
+            self._lower_priority()
             self._loop()
         except BaseException as e:          # handed to the caller by check()
             self._error = e
         finally:
             _leave()
+
+    def _lower_priority(self):
+        """On Linux (where a thread id is a process id), nice the worker to WORKER_NICE
+        unless it is nicer already; a process not allowed to change it (a limit on
+        priorities) runs the worker as it is."""
+        if not sys.platform.startswith("linux"):
+            return
+        tid = threading.get_native_id()
+        try:
+            if os.getpriority(os.PRIO_PROCESS, tid) < WORKER_NICE:
+                os.setpriority(os.PRIO_PROCESS, tid, WORKER_NICE)
+        except PermissionError as e:
+            self.notes.append(f"the worker runs at the process's priority ({e.strerror})")
 
     def _loop(self):
         ill = self.illustration
@@ -174,6 +191,8 @@ class Runner:
         return self._started and not self._thread.is_alive()
 
     def check(self):
-        """Raise the worker's exception, if it had one."""
+        """Raise the worker's exception, if it had one (its traceback printed first: the
+        message alone does not say where it came from)."""
         if self._error is not None:
+            traceback.print_exception(self._error)
             raise RunnerError(f"the illustration failed: {self._error!r}") from self._error

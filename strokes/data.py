@@ -5,6 +5,7 @@ import numpy as np
 
 LAYERS = ("Silhouette", "Crease", "Curvature", "Hatching", "Chains", "Short Strokes", "Stipples", "Single Strokes")
 LAYER_OF_KIND = {"silhouette": "Silhouette", "crease": "Crease", "curvature": "Curvature"}
+STROKE_LAYERS = ("Hatching", "Chains", "Short Strokes", "Stipples")      # the style's stroke layers
 
 
 @dataclass

@@ -119,11 +119,12 @@ def hatching(ev, starts, start_normals, eye, light, step, rng, field="dir1", axi
 
 def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, field="straight", axis=(0, 0, 1),
                   max_distance=None, lower=0.25, upper=0.6, weights=None, max_steps=12, radius=0.003,
-                  region=None, contrast=1.0):
+                  region=None, contrast=1.0, features=None):
     """Strokes started from feature chains (Smarticles 7.2): every ``every``-th point
     of each outline starts a smarticle heading at ``angle`` degrees to the chain,
     towards the viewer for silhouettes (the visible side) and to both sides of a
-    crease; strokes end at ``max_distance`` from the feature lines (default 4 steps)."""
+    crease; strokes end at ``max_distance`` from the feature lines (default 4 steps): the
+    points of ``features`` (default: these outlines' own)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the chain density step must be at least 1, got {every}")
@@ -159,7 +160,8 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
     P = P + 0.5 * step * H
     dist = 4.0 * step if max_distance is None else float(max_distance)
     rules = sm.StrokeRules(max_steps=max_steps, stop_on_curvature_sign=False, max_normal_angle=np.radians(75),
-                           feature_points=np.concatenate(feat), max_feature_distance=dist, region=region)
+                           feature_points=np.concatenate(feat) if features is None else np.asarray(features, float),
+                           max_feature_distance=dist, region=region)
     res = sm.run(ev, P, direction_field(field, axis, eye), step, weights or sm.PRESETS["hatching"], rules, rng,
                  headings=H)
     return shaded_strokes(ev, res, eye, light, upper, radius, region, contrast)

@@ -17,6 +17,7 @@ from .data import LAYER_OF_KIND, Stroke, StrokeSet
 from .visibility import split_visible_many
 
 LAYER_SWITCHES = ("outlines", "hatching", "stipples", "chains", "short")
+STROKE_SWITCHES = ("hatching", "chains", "short", "stipples")        # the stroke layers, in drawing order
 SURFACES = ("all", "convex", "concave")
 WEIGHT_NAMES = ("flow", "wander", "separation", "alignment", "cohesion", "containment")
 
@@ -71,6 +72,10 @@ class Style:
             raise ValueError(f"shade_lower ({self.shade_lower:g}) must not exceed shade_upper "
                              f"({self.shade_upper:g})")
         return self
+
+    def stroke_switches(self):
+        """The stroke layers this style draws, by switch name, in drawing order."""
+        return tuple(k for k in STROKE_SWITCHES if getattr(self, k))
 
     def resolved_weights(self):
         w = self.weights

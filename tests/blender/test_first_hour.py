@@ -96,6 +96,32 @@ def test_the_cursor_region_and_a_region_without_surface(example):
     assert len(layers_of("pear")["Stipples"]) == before            # nothing replaced
 
 
+def test_place_strokes_in_a_second_region_keeps_the_first(example):
+    """Regions build a drawing up: hatching placed around one point and then around
+    another keeps both; placing it again around the first replaces that part only."""
+    tree = set_up(example)
+    tree.ink.region, tree.ink.region_size, tree.ink.hatching = "CURSOR", 0.25, True
+    tree.ink.cross_hatching = False
+    a, b = np.array([0.0, -0.6, -0.3]), np.array([0.5, -0.2, 0.2])
+
+    def hatch_at(c):
+        bpy.context.scene.cursor.location = c
+        assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+        return layers_of("pear")["Hatching"]
+    only_a = hatch_at(a)
+    both = hatch_at(b)
+    from importlib import import_module
+    PL = import_module("bl_ext.user_default.blobtree_ink.pipeline")
+    comp = import_module("bl_ext.user_default.blobtree_ink.blobtree_nodes.compile")
+    M = import_module("bl_ext.user_default.blobtree_ink.model")
+    r = 0.25 * PL.bounds(M.Evaluator(comp.compile_tree(tree)))[1] + 1e-5
+    near = lambda strokes, c: sum(np.linalg.norm(points([s]) - c, axis=1).max() <= r for s in strokes)  # noqa: E731
+    assert len(only_a) > 3 and len(both) > len(only_a)
+    assert near(both, a) == near(only_a, a) > 0 and near(both, b) > 0
+    again = hatch_at(a)
+    assert len(again) == len(both)                                    # the same strokes, replaced
+
+
 def test_paper_is_set_up_and_given_back(example):
     sc = bpy.context.scene
     old = bpy.data.worlds.new("Studio")

@@ -220,4 +220,6 @@ def test_the_command_line_and_the_operator_draw_the_same_strokes(ext, example, t
     op = SM.from_grease_pencil(bpy.data.objects["pear Ink"])
     assert set(cli) == set(op) and len(cli) >= 2
     _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example("pear"))))
-    assert SM.differences(cli, op, dist=1e-3 * radius) == []
+    # the same strokes: the style's float settings are single precision on the tree (a
+    # radius may differ in its last bits), nothing else
+    assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []

@@ -42,7 +42,7 @@ def job_for(load_example, name, style="outlines", res=16, seed=0, requests=None,
     st = ST.style(style, **style_changes)
     if requests is None:
         requests = [PL.Request("OUTLINES")]
-        if st.hatching or st.stipples or st.chains or st.short:
+        if st.stroke_switches():
             requests.append(PL.Request("PLACE_STROKES"))
     return PL.Job(ev, View(eye=eye), PL.default_light(centre, eye), st, tuple(requests), seed, Settings(resolution=res))
 

@@ -4,6 +4,7 @@ regenerates them). A change that alters a drawing shows here."""
 import os
 import sys
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "golden"))
@@ -31,3 +32,10 @@ def test_the_comparison_sees_a_changed_drawing(load_example):
     for changed, what in ((fewer, "strokes against"), (moved, "points within"), (thicker, "median radius")):
         diff = SM.differences(want, changed, cases.TOLERANCE * radius)
         assert diff and all(d.startswith("Hatching") for d in diff) and any(what in d for d in diff)
+    # the outline layers exactly: a lost layer, a lost stroke, one stroke's point moved
+    no_crease = {k: v for k, v in got.items() if k != "Crease"}
+    one_less = dict(got, Silhouette=got["Silhouette"][1:])
+    p, r, o = got["Silhouette"][0]
+    bent = dict(got, Silhouette=[(np.vstack([p[:1] + 0.01 * radius, p[1:]]), r, o)] + got["Silhouette"][1:])
+    for changed in (no_crease, one_less, bent):
+        assert SM.differences(want, changed, cases.TOLERANCE * radius)

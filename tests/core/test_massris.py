@@ -245,8 +245,8 @@ def test_rough_polygonisation_vertices_lie_on_the_surface(root, res):
 @pytest.mark.parametrize("res", [8, 12, 20])
 def test_sharp_rim_of_a_pocket_is_traced_closed(res):
     """A box cut into a box: the pocket's rim is a sharp convex edge (90 degrees). The
-    bracket end over the pocket lies on the subtracted box's flat core; it used to
-    project back onto the edge and every trace was lost after a step or two."""
+    bracket end over the pocket lies on the subtracted box's flat core: projected
+    straight back it lands on the edge, and a trace would be lost after a step or two."""
     s = run(model_of({"type": "difference", "children": [BODY, POCKET]}), View(eye=(2.0, -6.0, 1.5)),
             resolution=res, kinds=("crease",))
     outs = s.outlines()

@@ -162,6 +162,7 @@ def test_flocks_spawn_side_by_side_and_flocked_hatching_differs(blend_session):
     flock = drawn(s.ev, eye, light, ST.style("flocked"), res=16).layers["Hatching"]
     plain = drawn(s.ev, eye, light, ST.style("hatched", cross_hatching=False), res=16).layers["Hatching"]
     assert len(flock) > 5 and len(plain) > 5
+    assert len(flock) != len(plain) or any(not np.array_equal(x.points, y.points) for x, y in zip(flock, plain))
     for x in flock:
         assert np.abs(s.ev.field(x.points) - 0.5).max() < 1e-6
 
