@@ -76,13 +76,13 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         return REQUEST_TIPS[properties.request]
 
     # --- setting up ------------------------------------------------------------------
-    def _requests(self, context, tree, ev):
+    def _requests(self, context, tree):
         """The pipeline requests of this run (a preset: its strokes, with the outlines
         where the outline layers have none yet, or the outlines alone)."""
         kind = self.request
         if self.preset != NO_PRESET:
             kind = "OUTLINES" if self.preset == "OUTLINES" else "PLACE_STROKES"
-        region = jobs.request_region(context, tree, ev) if kind in ("PLACE_STROKES", "FIND_FEATURES") else None
+        region = jobs.request_region(context, tree) if kind in ("PLACE_STROKES", "FIND_FEATURES") else None
         cursor = tuple(context.scene.cursor.location) if kind == "SINGLE_STROKE" else None
         requests = [PL.Request(kind, region, cursor)]
         drawn = stroke_count(bpy.data.objects.get(ink_name(tree)), LAYER_OF_KIND.values(), context.scene.frame_current)
@@ -97,13 +97,15 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         if self.preset != NO_PRESET:
             apply_preset(ink, self.preset)
         model = compile_tree(tree)
-        ev = Evaluator(model)
-        eye = jobs.camera_eye(context.scene) if ink.use_camera else jobs.viewport_eye(context, PL.bounds(ev)[1])
-        if eye is None and not ink.use_camera:
-            raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it from "
-                              "the 3D viewport, or switch From Camera on")
-        requests = self._requests(context, tree, ev)
-        job = jobs.job(ev, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye)
+        if ink.use_camera:
+            eye = jobs.camera_eye(context.scene)
+        else:
+            eye = jobs.viewport_eye(context, PL.bounds(Evaluator(model))[1])
+            if eye is None:
+                raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
+                                  "from the 3D viewport, or switch From Camera on")
+        requests = self._requests(context, tree)
+        job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye)
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         if ink.paper:
@@ -113,8 +115,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             preview.paper_look(tree)
         self.obj_name = ink_object(ink_name(tree), preview.tree_collection(tree)).name
         self.frame = context.scene.frame_current
-        self.regions = [r.region for r in requests if r.region is not None]
-        region_overlay.show(self.tree_key, self.regions)
+
         self.t_start = time.perf_counter()
         last_run.clear()
         last_run.update(iterations=0, ticks=0, max_tick_ms=0.0, state="running", tree=self.tree_key,
@@ -196,8 +197,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         return {"RUNNING_MODAL"}
 
     def _show(self, context, result):
-        """Write a result (once: a single stroke is added to its layer) and its figures."""
+        """Write a result (once: a single stroke is added to its layer), its figures and
+        its region in the viewport."""
         self._write(result)
+        region_overlay.show(self.tree_key, [result.region] if result.region is not None else [])
         self.shown = result
         pr = self._figures(result.progress)
         context.window_manager.progress_update(100.0 * pr.fraction)

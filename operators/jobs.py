@@ -35,30 +35,27 @@ def viewport_eye(context, radius):
     return centre + ORTHO_DISTANCE * radius * back / np.linalg.norm(back)
 
 
-def scene_light(scene, centre, eye):
-    """Towards the scene's light: a sun's direction, else the direction to the nearest
-    other light; without a light, the upper left of the viewer (pipeline.default_light)."""
+def scene_light(scene):
+    """The scene's light for a job: (direction, None) towards a sun, else (None,
+    position) of the first other light, else (None, None): the pipeline lights the
+    model from the viewer's upper left."""
     lights = [o for o in scene.objects if o.type == "LIGHT" and not o.hide_render]
     suns = [o for o in lights if o.data.type == "SUN"]
     if suns:
         d = np.array(suns[0].matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0)), float)
-    elif lights:
-        pos = min((np.array(o.matrix_world.translation, float) for o in lights),
-                  key=lambda p: np.linalg.norm(p - centre))
-        d = pos - centre
-    else:
-        return PL.default_light(centre, eye)
-    n = np.linalg.norm(d)
-    return d / n if n > 0 else PL.default_light(centre, eye)
+        if np.linalg.norm(d) > 0:
+            return tuple(d), None
+    if lights:
+        return None, tuple(np.array(lights[0].matrix_world.translation, float))
+    return None, None
 
 
-def request_region(context, tree, ev):
+def request_region(context, tree):
     """The region of a region request as the tree's settings say: the selection's
     bounds (or None: the whole model), or a sphere around the 3D cursor, its radius the
-    region size times the model's radius."""
+    region size times the model's radius (made by the pipeline: pipeline.Around)."""
     if tree.ink.region == "CURSOR":
-        _, radius = PL.bounds(ev)
-        return Region(sphere=(np.array(context.scene.cursor.location, float), tree.ink.region_size * radius))
+        return PL.Around(tuple(context.scene.cursor.location), tree.ink.region_size)
     return selection_region(context, tree)
 
 
@@ -74,16 +71,16 @@ def selection_region(context, tree):
     return Region(box=(pts.min(0), pts.max(0)))
 
 
-def job(ev, scene, style, settings, requests, seed, eye=None, seconds=None):
-    """A pipeline job for a compiled model seen by the scene: ``eye`` where given (the
-    viewport's), else the scene camera's, else a three-quarter view framing the model."""
-    centre, radius = PL.bounds(ev)
+def job(model, scene, style, settings, requests, seed, eye=None, seconds=None):
+    """A pipeline job for a model seen by the scene: ``eye`` where given (the
+    viewport's), else the scene camera's, else (the pipeline's) a three-quarter view
+    framing the model. Nothing is compiled or sampled here: that is the pipeline's work,
+    on its worker."""
     if eye is None:
         eye = camera_eye(scene)
-    if eye is None:
-        eye = PL.three_quarter_eye(centre, radius)
-    return PL.Job(ev, View(eye=eye), tuple(scene_light(scene, centre, eye)), style, tuple(requests), seed,
-                  settings, seconds)
+    light, light_at = scene_light(scene)
+    return PL.Job(model, None if eye is None else View(eye=eye), light, style, tuple(requests), seed, settings,
+                  seconds, light_at)
 
 
 def tree_settings(ink):

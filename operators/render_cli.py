@@ -53,7 +53,7 @@ def render(spec, log):
     except PL.NothingToDraw as e:
         raise CliError(str(e)) from None
     eye = PL.three_quarter_eye(centre, radius, spec.azimuth, spec.elevation)
-    light = PL.default_light(centre, eye) if spec.light is None else spec.light
+    light = PL.default_light(centre, eye) if spec.light is None else spec.light      # the sun of the scene
     bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
     sc = bpy.context.scene
     S.setup(sc, centre, eye, size=spec.size, light_dir=light)

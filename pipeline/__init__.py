@@ -3,6 +3,6 @@ out, through a resumable stepper that every path drives (the modal and backgroun
 operators and the command line)."""
 from .framing import NothingToDraw, bounds, default_light, line_radius, three_quarter_eye  # noqa: F401
 from .illustration import Illustration, Progress, Result  # noqa: F401
-from .job import (FIND_FEATURES, OUTLINES, PLACE_STROKES, REQUESTS, SINGLE_STROKE, Job, JobError,  # noqa: F401
+from .job import (FIND_FEATURES, OUTLINES, PLACE_STROKES, REQUESTS, SINGLE_STROKE, Around, Job, JobError,  # noqa: F401
                   Request)
 from .runner import Runner, RunnerError  # noqa: F401

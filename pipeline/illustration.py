@@ -17,16 +17,18 @@ what is left but the outlines of what was traced: a stopped illustration keeps e
 layer it finished, and the outlines found so far with their hidden lines removed.
 """
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
 from ..agents import Session
+from ..blackboard.view import View
+from ..model import Evaluator
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from . import layers as LY
-from .framing import line_radius
-from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS
+from .framing import bounds, default_light, line_radius, three_quarter_eye
+from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
 
 # each stage's share of a run, for the progress figure (sampling: the share of the
 # seeds taken; the stroke layers share theirs equally)
@@ -69,9 +71,9 @@ class Result:
 class Illustration:
     def __init__(self, job):
         self.job = job.checked()
-        self.ev = self.job.model
-        self.eye = np.asarray(self.job.view.eye, float)
-        self.light = np.asarray(self.job.light, float)
+        self.ev = None                 # the compiled model, the eye, the light and the requests'
+        self.eye = self.light = None   # regions: made at the initialisation (on a runner's worker)
+        self.requests = self.job.requests
         self.style = self.job.style
         self.session = None
         self.sampling = None           # the session's snapshot once its sampling ended
@@ -163,11 +165,23 @@ class Illustration:
 
     def _init(self):
         j = self.job
+        self.ev = j.model if isinstance(j.model, Evaluator) else Evaluator(j.model)
+        centre, radius = bounds(self.ev)
+        self.eye = np.asarray(j.view.eye if j.view is not None else three_quarter_eye(centre, radius), float)
+        if j.light is not None:
+            light = np.asarray(j.light, float)
+        elif j.light_at is not None and np.linalg.norm(np.asarray(j.light_at, float) - centre) > 0:
+            light = np.asarray(j.light_at, float) - centre
+        else:
+            light = default_light(centre, self.eye)
+        self.light = light / np.linalg.norm(light)
+        self.requests = tuple(replace(r, region=r.region.region(radius)) if isinstance(r.region, Around) else r
+                              for r in j.requests)
         self.line_radius = line_radius(self.ev)
-        self.session = Session(self.ev, j.view, j.settings)
+        self.session = Session(self.ev, View(eye=self.eye), j.settings)
         self._check_regions(self.session.snapshot(stitch=False).vertices)
         if j.wants_outlines():
-            for r in j.requests:
+            for r in self.requests:
                 if r.kind == FIND_FEATURES:
                     self.session.request(FIND_FEATURES, r.region)
             self.session.request(OUTLINES)
@@ -178,7 +192,7 @@ class Illustration:
     def _check_regions(self, vertices):
         """A region request whose region holds no part of the surface (none of the rough
         mesh's vertices) says so; Place Strokes then draws nothing and replaces nothing."""
-        for r in self.job.requests:
+        for r in self.requests:
             if r.region is None or r.region.contains(vertices).any():
                 continue
             what = "Place Strokes draws nothing" if r.kind == PLACE_STROKES else "no more detail is looked for"
@@ -212,7 +226,8 @@ class Illustration:
         self._next()
 
     def _region(self):
-        return self.job.stroke_region()
+        """The region of the PLACE_STROKES request (None: the whole model, or none)."""
+        return next((r.region for r in self.requests if r.kind == PLACE_STROKES), None)
 
     def _stroke_layer(self, layer, parts, draw, **kw):
         """One part of a stroke layer per step (the parts listed at the layer's first
@@ -246,7 +261,7 @@ class Illustration:
         self._stroke_layer(STYLE_LAYERS["stipples"], LY.stipples_parts, LY.stipples)
 
     def _single(self):
-        cursor = [r.cursor for r in self.job.requests if r.kind == SINGLE_STROKE][0]
+        cursor = [r.cursor for r in self.requests if r.kind == SINGLE_STROKE][0]
         stroke = LY.single_stroke(self.ev, self.sampling, self.eye, self.style, self.line_radius, cursor,
                                   self.job.seed)
         if stroke is None:

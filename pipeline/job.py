@@ -7,7 +7,7 @@ import numpy as np
 
 from ..agents import Region, Settings
 from ..blackboard.view import View
-from ..model import Evaluator
+from ..model import Evaluator, Model
 from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
 from ..strokes.style import STROKE_SWITCHES, Style
 
@@ -23,11 +23,30 @@ class JobError(ValueError):
 
 
 @dataclass(frozen=True)
+class Around:
+    """A region to be made once the model's size is known: a sphere around ``centre``,
+    its radius ``size`` times the radius of the model's surface box."""
+    centre: tuple
+    size: float
+
+    def check(self):
+        c = np.asarray(self.centre, float)
+        if c.shape != (3,) or not np.all(np.isfinite(c)):
+            raise JobError(f"a region's centre must be three finite numbers, got {self.centre!r}")
+        if not (isinstance(self.size, (int, float)) and np.isfinite(self.size) and self.size > 0):
+            raise JobError(f"a region's size must be a positive number, got {self.size!r}")
+
+    def region(self, radius):
+        return Region(sphere=(np.asarray(self.centre, float), float(self.size) * radius))
+
+
+@dataclass(frozen=True)
 class Request:
     """One of MASSRIS's Table 1 requests: trace the feature outlines (OUTLINES), find
     features in a region for more detail (FIND_FEATURES), place the style's strokes in a
     region (PLACE_STROKES), or one stroke from a point near the surface (SINGLE_STROKE,
-    from ``cursor``). No region: the whole model."""
+    from ``cursor``). A region is an agents.Region or an :class:`Around`; no region: the
+    whole model."""
     kind: str
     region: Region = None
     cursor: tuple = None
@@ -35,8 +54,11 @@ class Request:
     def check(self):
         if self.kind not in REQUESTS:
             raise JobError(f"unknown request {self.kind!r}; one of {', '.join(REQUESTS)}")
-        if self.region is not None and not isinstance(self.region, Region):
-            raise JobError(f"a request's region must be an agents.Region, got {type(self.region).__name__}")
+        if isinstance(self.region, Around):
+            self.region.check()
+        elif self.region is not None and not isinstance(self.region, Region):
+            raise JobError(f"a request's region must be an agents.Region or a pipeline.Around, got "
+                           f"{type(self.region).__name__}")
         if self.kind == SINGLE_STROKE:
             c = np.asarray(self.cursor if self.cursor is not None else (np.nan,) * 3, float)
             if c.shape != (3,) or not np.all(np.isfinite(c)):
@@ -46,22 +68,26 @@ class Request:
 @dataclass(frozen=True)
 class Job:
     """Everything an illustration depends on. ``model``: a compiled model (an
-    model.Evaluator) or a model.Model; ``view``: where the eye is (blackboard.View with
-    an eye); ``light``: a direction towards the light; ``seed``: the seed of every random
+    model.Evaluator) or a model.Model (the illustration compiles it, on its worker);
+    ``view``: where the eye is (blackboard.View with an eye; None: a three-quarter view
+    framing the model); ``light``: a direction towards the light, or ``light_at``: a
+    point light's position (the light comes from there to the model's centre), neither:
+    from the viewer's upper left; ``seed``: the seed of every random
     choice (the settings' seed is replaced by it); ``seconds``: a time budget for the
     agents' iterations (None: run to the end; a budget makes the outlines depend on the
     machine's speed)."""
     model: object
-    view: View
-    light: tuple
+    view: View = None
+    light: tuple = None
     style: Style = field(default_factory=Style)
     requests: tuple = (Request(OUTLINES),)
     seed: int = 0
     settings: Settings = field(default_factory=Settings)
     seconds: float = None
+    light_at: tuple = None
 
     def checked(self):
-        """This job with its model compiled, or JobError naming the first bad part."""
+        """This job, checked (JobError naming the first bad part)."""
         if not self.requests:
             raise JobError("nothing requested")
         for r in self.requests:
@@ -71,13 +97,19 @@ class Job:
         kinds = [r.kind for r in self.requests]
         if len(set(kinds)) != len(kinds):
             raise JobError(f"each request at most once in a job, got {', '.join(kinds)}")
-        if not isinstance(self.view, View) or self.view.eye is None:
-            raise JobError("the view must be a blackboard.View with an eye position")
-        if np.shape(self.view.eye) != (3,) or not np.all(np.isfinite(self.view.eye)):
-            raise JobError(f"the eye must be three finite numbers, got {self.view.eye.tolist()}")
-        L = np.asarray(self.light, float)
-        if L.shape != (3,) or not np.all(np.isfinite(L)) or not np.linalg.norm(L) > 0:
-            raise JobError(f"the light direction must be three finite numbers, not all zero, got {self.light!r}")
+        if self.view is not None:
+            if not isinstance(self.view, View) or self.view.eye is None:
+                raise JobError("the view must be a blackboard.View with an eye position")
+            if np.shape(self.view.eye) != (3,) or not np.all(np.isfinite(self.view.eye)):
+                raise JobError(f"the eye must be three finite numbers, got {self.view.eye.tolist()}")
+        if self.light is not None and self.light_at is not None:
+            raise JobError("a light direction or a light position, not both")
+        if self.light is not None:
+            L = np.asarray(self.light, float)
+            if L.shape != (3,) or not np.all(np.isfinite(L)) or not np.linalg.norm(L) > 0:
+                raise JobError(f"the light direction must be three finite numbers, not all zero, got {self.light!r}")
+        if self.light_at is not None and (np.shape(self.light_at) != (3,) or not np.all(np.isfinite(self.light_at))):
+            raise JobError(f"the light position must be three finite numbers, got {self.light_at!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, (int, np.integer)) or not 0 <= self.seed < 2**63:
             raise JobError(f"seed must be a whole number from 0, got {self.seed!r}")
         if self.seconds is not None and not (isinstance(self.seconds, (int, float)) and self.seconds > 0
@@ -88,10 +120,11 @@ class Job:
             self.settings.check()
         except ValueError as e:
             raise JobError(str(e)) from None
-        ev = self.model if isinstance(self.model, Evaluator) else Evaluator(self.model)
+        if not isinstance(self.model, (Evaluator, Model)):
+            raise JobError(f"the model must be a model.Model or a model.Evaluator, got {type(self.model).__name__}")
         # one seed: the job's (the sampling's explorers and every stroke layer derive theirs from it)
-        return Job(ev, self.view, tuple(L / np.linalg.norm(L)), self.style, tuple(self.requests), int(self.seed),
-                   replace(self.settings, seed=int(self.seed)), self.seconds)
+        return replace(self, requests=tuple(self.requests), seed=int(self.seed),
+                       settings=replace(self.settings, seed=int(self.seed)))
 
     @property
     def kinds(self):
@@ -110,9 +143,6 @@ class Job:
         """The style's stroke layers a PLACE_STROKES request draws."""
         return self.style.stroke_switches() if PLACE_STROKES in self.kinds else ()
 
-    def stroke_region(self):
-        """The region of the PLACE_STROKES request (None: the whole model, or none)."""
-        return next((r.region for r in self.requests if r.kind == PLACE_STROKES), None)
 
     def owned_layers(self):
         """The layers this job's result replaces as a whole, even where it draws nothing

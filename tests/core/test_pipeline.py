@@ -79,3 +79,45 @@ def test_a_style_without_strokes_draws_nothing_and_says_why(load_example):
     res = PL.Illustration(job).run()
     assert res.strokes.count() == 0 and res.owned == ()
     assert res.warnings and "the style draws no strokes" in res.warnings[0]
+
+
+def test_the_job_leaves_compiling_framing_and_lighting_to_the_illustration(load_example):
+    """A job can hold the model uncompiled, no view and no light: the illustration's
+    initialisation (on a runner's worker) compiles it, frames it in a three-quarter view,
+    lights it from the viewer's upper left or from a point light, and makes a region
+    around a point from the model's size."""
+    from blobtree_ink import model as M
+    model = load_example("pear")
+    near = PL.Around((0.0, -0.6, -0.2), 0.3)
+    job = PL.Job(model, requests=(PL.Request("PLACE_STROKES", near),), style=ST.style("stippled"))
+    ill = PL.Illustration(job)
+    assert ill.ev is None and ill.eye is None
+    ill.step()
+    ev = M.Evaluator(model)
+    centre, radius = PL.bounds(ev)
+    np.testing.assert_allclose(ill.eye, PL.three_quarter_eye(centre, radius))
+    np.testing.assert_allclose(ill.light, PL.default_light(centre, ill.eye))
+    region = ill.requests[0].region
+    assert region.sphere[1] == pytest.approx(0.3 * radius)
+    res = ill.run()
+    pts = np.concatenate([s.points for s in res.strokes.layers["Stipples"]])
+    assert np.linalg.norm(pts - near.centre, axis=1).max() <= 0.3 * radius + 1e-9
+    lamp = PL.Illustration(PL.Job(model, light_at=(centre[0], centre[1], centre[2] + 10.0)))
+    lamp.step()
+    np.testing.assert_allclose(lamp.light, [0.0, 0.0, 1.0], atol=1e-12)
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(light=(0, 0, 0)), "light direction must be three finite numbers, not all zero"),
+    (dict(light=(0, 0, 1), light_at=(1, 1, 1)), "a light direction or a light position, not both"),
+    (dict(seed=-1), "seed must be a whole number from 0"),
+    (dict(requests=(PL.Request("OUTLINES"), PL.Request("OUTLINES"))), "each request at most once"),
+    (dict(requests=(PL.Request("PLACE_STROKES", PL.Around((0, 0, np.nan), 0.2)),)), "region's centre"),
+    (dict(model="pear.json"), "the model must be a model.Model or a model.Evaluator"),
+    (dict(seconds=-2), "time budget must be a positive number"),
+])
+def test_bad_jobs_are_named(load_example, change, message):
+    import dataclasses
+    job = dataclasses.replace(PL.Job(load_example("pear")), **change)
+    with pytest.raises(PL.JobError, match=message):
+        PL.Illustration(job)
