@@ -51,6 +51,9 @@ REQUESTS = [("OUTLINES", "Trace Feature Outlines",
 REQUEST_TIPS = {k: tip for k, _, tip in REQUESTS}
 NO_PRESET = "NONE"
 TICK = 0.05                 # seconds between the modal timer's ticks
+WRITE_EVERY = 0.25          # seconds between writes of a run's progress, at least ...
+DRAW_SHARE = 0.25           # ... and long enough that redrawing what was written takes at most this share of
+                            # the time (software GL redraws a viewport with ink in about 0.2 s)
 CANCEL_WAIT = 2.0           # seconds a cancelled run waits for its worker
 START_ERRORS = (LookupError, TreeError, PL.JobError, PL.NothingToDraw, ValueError)   # what the artist can mend
 last_run = {}               # figures of the latest run (module state, read by the panel and tests)
@@ -159,6 +162,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.runner = PL.Runner(self.illustration).start()
         self.shown = None
         self.stopping = None
+        self.last_tick = time.monotonic()
+        self.next_write = self.last_tick
+        self.wrote = False
         wm = context.window_manager
         self.timer = wm.event_timer_add(TICK, window=context.window)
         wm.progress_begin(0, 100)
@@ -188,9 +194,17 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self.runner.stop()
         if self.runner.finished:
             return self._end(context, self.stopping or "done")
+        # the time since the last tick beyond the timer's interval went to the UI, mostly
+        # to redrawing what the last write changed: the next write waits for it
+        now = time.monotonic()
+        if self.wrote:
+            self.next_write = max(self.next_write, now + (now - self.last_tick - TICK) * (1 / DRAW_SHARE - 1))
+            self.wrote = False
+        self.last_tick = now
         result = self.runner.latest()
-        if result is not None and result is not self.shown:
+        if result is not None and result is not self.shown and now >= self.next_write:
             self._show(context, result)
+            self.next_write, self.wrote = now + WRITE_EVERY, True
         tick_ms = 1000 * (time.perf_counter() - t0)
         last_run["ticks"] += 1
         last_run["max_tick_ms"] = max(last_run["max_tick_ms"], tick_ms)

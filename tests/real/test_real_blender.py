@@ -117,3 +117,28 @@ def test_real_ui_modal_runs_draw_what_the_background_path_draws(user_dir, tmp_pa
         for k in modal.files:
             np.testing.assert_array_equal(modal[k], execd[k], err_msg=f"{preset} {k}")
         assert facts["counts"][f"modal-{preset}"]["Silhouette"] > 0
+
+
+def test_real_ui_stays_responsive_while_the_shell_is_illustrated(user_dir, tmp_path):
+    """An independent 50 ms timer keeps firing during every request on the 1497-node
+    shell: no gap above 250 ms (the target is 100 ms; a slow CI machine gets some room)
+    but for the drawing of the 3D viewport, which with this machine's software GL takes
+    about 0.2 s a redraw (0.1 s for an empty viewport: Blender's own cost, not a stall of
+    the extension's; the screen is 1280x720 and viewport anti-aliasing off to keep it
+    small). The raw gaps, the drawing and the gaps less drawing are printed; the run's
+    writes are spaced so that redrawing them takes at most a quarter of the time: the
+    median gap stays at the timer's interval."""
+    out = str(tmp_path / "ui")
+    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
+                "--script", os.path.join(REPO, "tests", "real", "ui", "responsive.py"),
+                "--out", out, "--user", user_dir, "--timeout", "600", "--screen", "1280x720", timeout=700)
+    facts = json.load(open(os.path.join(out, "facts.json")))
+    assert "error" not in facts, facts.get("error")
+    print("real-UI responsiveness (s):", json.dumps(facts, indent=1))
+    assert facts["nodes"] > 1400
+    for name, run_ in facts["runs"].items():
+        assert run_["invoke"] == ["RUNNING_MODAL"] and run_["state"] == "done", (name, run_)
+        assert run_["ticks"] >= 1, (name, run_)
+        assert run_["max_gap_less_drawing"] < 0.25, f"{name}: the UI stalled for {run_['max_gap_less_drawing']:.3f} s"
+        assert run_["median_gap"] < 0.1, f"{name}: the UI was busy half the time ({run_['median_gap']:.3f} s)"
+    shutil.copy(os.path.join(out, "responsive_shell.png"), artifact("responsive_shell.png"))

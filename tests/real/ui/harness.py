@@ -39,12 +39,15 @@ def main():
     ap.add_argument("--script", required=True)
     ap.add_argument("--out", required=True)
     ap.add_argument("--user", required=True)
-    ap.add_argument("--display", default=":77")
+    ap.add_argument("--display", default=None, help="the X display (default: the first free one from :77)")
     ap.add_argument("--timeout", type=float, default=120)
+    ap.add_argument("--screen", default="1600x900", help="the virtual screen's size, WxH")
     a = ap.parse_args()
+    if a.display is None:               # several UI tests may run at once (each its own Xvfb)
+        a.display = next(f":{n}" for n in range(77, 200) if not os.path.exists(f"/tmp/.X{n}-lock"))
     os.makedirs(a.out, exist_ok=True)
     env = dict(os.environ, DISPLAY=a.display, BLENDER_USER_RESOURCES=a.user, BTI_UI_OUT=a.out)
-    xvfb = subprocess.Popen(["Xvfb", a.display, "-screen", "0", "1600x900x24", "-nolisten", "tcp"],
+    xvfb = subprocess.Popen(["Xvfb", a.display, "-screen", "0", f"{a.screen}x24", "-nolisten", "tcp"],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     log = open(os.path.join(a.out, "blender.log"), "w")
     blender = None
