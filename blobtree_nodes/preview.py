@@ -8,7 +8,9 @@ previous preview and shows its error on the offending node.
 import bpy
 import numpy as np
 
-from ..blackboard.polygonise import GridError, polygonise
+from mathutils import Vector
+
+from ..blackboard.polygonise import GridError, polygonise, surface_box
 from ..model import Evaluator
 from . import changes
 from .compile import tree_model_or_none
@@ -96,6 +98,30 @@ def _preview_object(tree):
     obj.hide_render = not tree.ink.render_preview
     tree_collection(tree).objects.link(obj)
     tree.preview_object = obj
+    return obj
+
+
+GAP = 0.25                       # between placed models, as a fraction of the larger one's size
+
+
+def place_beside(tree, model):
+    """Make the tree's preview object (its model's placement in the scene) and put it
+    beside the other BlobTrees' previews along +x, not on top of them. Returns it."""
+    box = surface_box(Evaluator(model))
+    obj = _preview_object(tree)
+    if box is None:
+        return obj
+    lo, hi = box
+    right, size = None, float(np.max(hi - lo))
+    for other in bpy.data.node_groups:
+        o = getattr(other, "preview_object", None) if other != tree else None
+        if o is None or o.name not in bpy.data.objects or not len(o.data.vertices):
+            continue
+        corners = np.array([o.matrix_world @ Vector(c) for c in o.bound_box])
+        right = corners[:, 0].max() if right is None else max(right, corners[:, 0].max())
+        size = max(size, float(np.ptp(corners, axis=0).max()))
+    if right is not None:
+        obj.location = (right + GAP * size - lo[0], 0.0, 0.0)
     return obj
 
 

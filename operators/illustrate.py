@@ -79,14 +79,14 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         return REQUEST_TIPS[properties.request]
 
     # --- setting up ------------------------------------------------------------------
-    def _requests(self, context, tree):
+    def _requests(self, context, tree, inverse):
         """The pipeline requests of this run (a preset: its strokes, with the outlines
         where the outline layers have none yet, or the outlines alone)."""
         kind = self.request
         if self.preset != NO_PRESET:
             kind = "OUTLINES" if self.preset == "OUTLINES" else "PLACE_STROKES"
-        region = jobs.request_region(context, tree) if kind in ("PLACE_STROKES", "FIND_FEATURES") else None
-        cursor = tuple(context.scene.cursor.location) if kind == "SINGLE_STROKE" else None
+        region = jobs.request_region(context, tree, inverse) if kind in ("PLACE_STROKES", "FIND_FEATURES") else None
+        cursor = jobs.to_model(inverse, context.scene.cursor.location) if kind == "SINGLE_STROKE" else None
         requests = [PL.Request(kind, region, cursor)]
         drawn = stroke_count(bpy.data.objects.get(ink_name(tree)), LAYER_OF_KIND.values(), context.scene.frame_current)
         if self.preset not in (NO_PRESET, "OUTLINES") and drawn == 0:
@@ -100,6 +100,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         if self.preset != NO_PRESET:
             apply_preset(ink, self.preset)
         model = compile_tree(tree)
+        self.placement = jobs.placement(tree)
+        inverse = self.placement.inverted_safe()
         if ink.use_camera:
             eye = jobs.camera_eye(context.scene)
         else:
@@ -107,8 +109,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             if eye is None:
                 raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
                                   "from the 3D viewport, or switch From Camera on")
-        requests = self._requests(context, tree)
-        job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye)
+        requests = self._requests(context, tree, inverse)
+        job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye,
+                       inverse=inverse)
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         if ink.paper:
@@ -116,7 +119,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             if was:
                 ink.paper_restore = was
             preview.paper_look(tree)
-        self.obj_name = ink_object(ink_name(tree), preview.tree_collection(tree)).name
+        obj = ink_object(ink_name(tree), preview.tree_collection(tree))
+        jobs.attach(obj, tree)
+        self.obj_name = obj.name
         self.frame = context.scene.frame_current
 
         self.t_start = time.perf_counter()
@@ -214,7 +219,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         """Write a result (once: a single stroke is added to its layer), its figures and
         its region in the viewport."""
         self._write(result)
-        region_overlay.show(self.tree_key, [result.region] if result.region is not None else [])
+        region_overlay.show(self.tree_key, [result.region] if result.region is not None else [], self.placement)
         self.shown = result
         pr = self._figures(result.progress)
         context.window_manager.progress_update(100.0 * pr.fraction)

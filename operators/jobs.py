@@ -4,11 +4,41 @@ lights, a request's region from the selection or the 3D cursor, the style and se
 from the tree. The operators and the command line build their jobs here, so the same
 scene gives the same job whichever path draws."""
 import numpy as np
-from mathutils import Vector
+from mathutils import Matrix, Vector
 
 from .. import pipeline as PL
 from ..agents import Region, Settings
 from ..blackboard.view import View
+
+
+def placement(tree):
+    """The matrix that places the tree's model in the scene: its preview object's (the
+    artist moves the model by moving that object), else the identity."""
+    obj = tree.preview_object
+    return obj.matrix_world.copy() if obj is not None else Matrix.Identity(4)
+
+
+def to_model(matrix, point):
+    """A scene point in the model's coordinates (``matrix``: the inverse placement)."""
+    return None if point is None else tuple(matrix @ Vector(tuple(point)))
+
+
+def direction_to_model(matrix, d):
+    """A scene direction in the model's coordinates, unit length."""
+    if d is None:
+        return None
+    v = np.array(matrix.to_3x3() @ Vector(tuple(d)), float)
+    return tuple(v / np.linalg.norm(v))
+
+
+def attach(ink, tree):
+    """The ink object follows its model: a child of the preview object, drawn in the
+    model's coordinates."""
+    parent = tree.preview_object
+    if ink.parent != parent:
+        ink.parent = parent
+    ink.matrix_parent_inverse = Matrix.Identity(4)
+    ink.matrix_basis = Matrix.Identity(4)
 
 
 def camera_eye(scene):
@@ -50,37 +80,42 @@ def scene_light(scene):
     return None, None
 
 
-def request_region(context, tree):
-    """The region of a region request as the tree's settings say: the selection's
-    bounds (or None: the whole model), or a sphere around the 3D cursor, its radius the
-    region size times the model's radius (made by the pipeline: pipeline.Around)."""
+def request_region(context, tree, inverse):
+    """The region of a region request as the tree's settings say, in the model's
+    coordinates (``inverse``: the inverse placement): the selection's bounds (or None:
+    the whole model), or a sphere around the 3D cursor, its radius the region size times
+    the model's radius (made by the pipeline: pipeline.Around)."""
     if tree.ink.region == "CURSOR":
-        return PL.Around(tuple(context.scene.cursor.location), tree.ink.region_size)
-    return selection_region(context, tree)
+        return PL.Around(to_model(inverse, context.scene.cursor.location), tree.ink.region_size)
+    return selection_region(context, tree, inverse)
 
 
-def selection_region(context, tree):
+def selection_region(context, tree, inverse):
     """The bounds of the selected objects that can mark a region (not Grease Pencil
-    objects, not the tree's own preview mesh), or None: the whole model."""
+    objects, not the tree's own preview mesh) in the model's coordinates, or None: the
+    whole model."""
     own = tree.preview_object
     sel = [o for o in getattr(context, "selected_objects", None) or []
            if o.type != "GREASEPENCIL" and (own is None or o.name != own.name)]
     if not sel:
         return None
-    pts = np.array([o.matrix_world @ Vector(c) for o in sel for c in o.bound_box])
+    pts = np.array([inverse @ o.matrix_world @ Vector(c) for o in sel for c in o.bound_box])
     return Region(box=(pts.min(0), pts.max(0)))
 
 
-def job(model, scene, style, settings, requests, seed, eye=None, seconds=None):
+def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, inverse=None):
     """A pipeline job for a model seen by the scene: ``eye`` where given (the
     viewport's), else the scene camera's, else (the pipeline's) a three-quarter view
-    framing the model. Nothing is compiled or sampled here: that is the pipeline's work,
-    on its worker."""
+    framing the model; eye and light taken into the model's coordinates by ``inverse``
+    (the inverse placement; default the identity). Nothing is compiled or sampled here:
+    that is the pipeline's work, on its worker."""
+    inverse = Matrix.Identity(4) if inverse is None else inverse
     if eye is None:
         eye = camera_eye(scene)
     light, light_at = scene_light(scene)
-    return PL.Job(model, None if eye is None else View(eye=eye), light, style, tuple(requests), seed, settings,
-                  seconds, light_at)
+    eye = to_model(inverse, eye)
+    return PL.Job(model, None if eye is None else View(eye=np.array(eye)), direction_to_model(inverse, light), style,
+                  tuple(requests), seed, settings, seconds, to_model(inverse, light_at))
 
 
 def tree_settings(ink):

@@ -16,15 +16,16 @@ from .common import blobtrees
 COLOR = (0.95, 0.45, 0.1, 0.9)      # an orange that reads over the grey grid and the white paper
 WIDTH = 2.0
 SEGMENTS = 64
-_running = {}                        # tree name -> the regions of its run
+_running = {}                        # tree name -> the regions of its run (model coordinates) and the placement
 _radius = {}                         # tree name -> (edits, the model's radius), for the cursor sphere
 _handle = []
 
 
-def show(tree_name, regions):
-    """Draw these regions (agents.Region) while the tree's run lasts ([]: no more)."""
+def show(tree_name, regions, placement=None):
+    """Draw these regions (agents.Region, in the model's coordinates, placed in the scene
+    by ``placement``, a 4x4 matrix) while the tree's run lasts ([]: no more)."""
     if regions:
-        _running[tree_name] = list(regions)
+        _running[tree_name] = (list(regions), np.array(placement if placement is not None else np.eye(4), float))
     else:
         _running.pop(tree_name, None)
     for window in getattr(bpy.context.window_manager, "windows", []):
@@ -65,25 +66,31 @@ def outline(region):
     return np.concatenate(out)
 
 
-def regions_now(context):
-    """Every region to draw now."""
-    out = [r for regions in _running.values() for r in regions]
+def segments_now(context):
+    """The line segments ((2k, 3) scene points) of every region to draw now."""
+    out = []
+    for regions, M in _running.values():
+        for r in regions:
+            P = outline(r)
+            out.append(P @ M[:3, :3].T + M[:3, 3])
     for tree in blobtrees():
         if tree.ink.region == "CURSOR" and tree.name not in _running:
             radius = model_radius(tree)
+            obj = tree.preview_object
+            scale = max(obj.matrix_world.to_scale()) if obj is not None else 1.0
             if radius is not None:
-                out.append(Region(sphere=(np.array(context.scene.cursor.location, float),
-                                             tree.ink.region_size * radius)))
+                out.append(outline(Region(sphere=(np.array(context.scene.cursor.location, float),
+                                                  tree.ink.region_size * radius * scale))))
     return out
 
 
 def _draw():
     import gpu
     from gpu_extras.batch import batch_for_shader
-    regions = regions_now(bpy.context)
-    if not regions:
+    segments = segments_now(bpy.context)
+    if not segments:
         return
-    coords = np.concatenate([outline(r) for r in regions]).astype(np.float32)
+    coords = np.concatenate(segments).astype(np.float32)
     shader = gpu.shader.from_builtin("POLYLINE_UNIFORM_COLOR")
     batch = batch_for_shader(shader, "LINES", {"pos": coords})
     gpu.state.blend_set("ALPHA")
