@@ -1,11 +1,11 @@
 """Operators (Blender layer), one per file, and the sidebar panels."""
 import bpy
 
-from . import (activate_tree, apply_preset, export_json, illustrate, import_json, panels, rebuild_preview,
+from . import (activate_tree, apply_preset, export_json, illustrate, import_json, menus, panels, rebuild_preview,
                region_overlay, toggle_layer)
 
 classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes, *illustrate.classes,
-           *apply_preset.classes, *toggle_layer.classes, *activate_tree.classes, *panels.classes)
+           *apply_preset.classes, *toggle_layer.classes, *activate_tree.classes, *panels.classes, *menus.classes)
 
 
 def register():
@@ -14,9 +14,11 @@ def register():
     bpy.types.TOPBAR_MT_file_import.append(import_json.menu_func)
     bpy.types.TOPBAR_MT_file_export.append(export_json.menu_func)
     region_overlay.register()
+    menus.register()
 
 
 def unregister():
+    menus.unregister()
     region_overlay.unregister()
     bpy.types.TOPBAR_MT_file_export.remove(export_json.menu_func)
     bpy.types.TOPBAR_MT_file_import.remove(import_json.menu_func)

@@ -23,7 +23,6 @@ import time
 import traceback
 
 import bpy
-import numpy as np
 
 from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview

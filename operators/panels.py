@@ -6,9 +6,7 @@ import bpy
 from ..blobtree_nodes.settings import PRESETS
 from .common import active_tree, blobtrees, ink_name
 from .illustrate import REQUESTS, last_run
-
-REQUEST_ICONS = {"OUTLINES": "MOD_LINEART", "SINGLE_STROKE": "GREASEPENCIL", "PLACE_STROKES": "BRUSH_DATA",
-                 "FIND_FEATURES": "VIEWZOOM"}
+from .menus import REQUEST_ICONS
 
 
 def shown_tree(context):

@@ -117,6 +117,11 @@ class Illustration:
     def stage(self):
         return self.stages[self.at] if self.at < len(self.stages) else "done"
 
+    def position(self):
+        """Where the illustration is: the stage being worked on and the parts of it done
+        (a stroke layer's; 0 for the other stages)."""
+        return self.stage, (self._part if self._parts is not None else 0)
+
     def stop(self):
         """Finish early: what is left is skipped, except the visible outlines of what
         was traced (the next :meth:`step` draws them)."""

@@ -45,32 +45,37 @@ class RunnerError(RuntimeError):
 
 
 class Hold:
-    """Test hook: with ``after`` set to a number of steps, every worker started from then
-    on waits after that many steps until :meth:`release` (or a stop or cancel)."""
+    """Test hook: armed with ``after`` (a number of steps) or ``at`` (a stage and the parts
+    of it done: Illustration.position), the next worker to get there waits until
+    :meth:`release` (or a stop or cancel)."""
 
     def __init__(self):
-        self.after = None
+        self.after = self.at = None
         self.reached = threading.Event()
         self._go = threading.Event()
 
-    def arm(self, after):
-        self.after = after
+    def arm(self, after=None, at=None):
+        self.after, self.at = after, at
         self.reached.clear()
         self._go.clear()
 
     def release(self):
-        self.after = None
+        self.after = self.at = None
         self._go.set()
 
-    def wait(self, steps, stop):
+    def due(self, steps, illustration):
+        return (self.after is not None and steps == self.after) or \
+            (self.at is not None and illustration.position() == tuple(self.at))
+
+    def wait(self, steps, illustration, stop):
         """Hold here after the armed step, until released or stopped (once: the hook is
         disarmed as the held worker goes on)."""
-        if self.after is None or steps != self.after:
+        if not self.due(steps, illustration):
             return
         self.reached.set()
         while not self._go.wait(0.05) and not stop.is_set():
             pass
-        self.after = None
+        self.after = self.at = None
 
 
 HOLD = Hold()
@@ -145,14 +150,14 @@ class Runner:
             stage = ill.stage
             going = ill.step()
             self._steps += 1
-            held = HOLD.after == self._steps
+            held = HOLD.due(self._steps, ill)
             now = time.monotonic()
             if not going or held or ill.stage != stage or last is None or now - last >= PUBLISH_EVERY:
                 self._publish()
                 last = now
             if not going:
                 return
-            HOLD.wait(self._steps, self._stop)
+            HOLD.wait(self._steps, ill, self._stop)
 
     def _publish(self):
         res = self.illustration.result()

@@ -3,8 +3,6 @@ with its keys and clicks in tests/real): trace outlines, click a stippled look, 
 a hatched look (outlines and stipples stay), render on white paper in Workbench and in
 EEVEE, and check the pixels of each layer's strokes: dark ink on white, no preview
 mesh."""
-import os
-
 import bpy
 import numpy as np
 import pytest
@@ -68,7 +66,7 @@ def test_looks_build_a_drawing_up_and_presets_change_only_the_look(example):
 
 
 def test_the_outlines_look_draws_outlines_and_place_strokes_without_strokes_says_so(example):
-    tree = set_up(example)
+    set_up(example)
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="OUTLINES") == {"FINISHED"}
     layers = layers_of("pear")
     assert layers["Silhouette"] and not layers["Hatching"]
@@ -146,7 +144,7 @@ def test_paper_is_set_up_and_given_back(example):
 
 @pytest.mark.parametrize("engine", ["BLENDER_WORKBENCH", EEVEE])
 def test_a_render_shows_every_layer_as_ink_on_white_paper(example, tmp_path, engine):
-    tree = set_up(example)
+    set_up(example)
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
@@ -174,4 +172,3 @@ def test_a_render_shows_every_layer_as_ink_on_white_paper(example, tmp_path, eng
                 near_ink[np.clip(y + dy, 0, h - 1), np.clip(x + dx, 0, w - 1)] = True
     paper = px[~near_ink]
     assert np.median(paper) > 0.97 and np.quantile(paper, 0.05) > 0.9, f"{engine}: not white paper (or the mesh shows)"
-    os.makedirs(os.path.join(os.path.dirname(__file__), "..", "artifacts"), exist_ok=True)

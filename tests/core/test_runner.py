@@ -171,3 +171,17 @@ def test_the_progress_figure_counts_each_stage_by_its_share(load_example):
     assert within[-1] == pytest.approx(0.65 / total) and 0.15 / total < within[0] < within[-1]
     ill.step()
     assert ill.finished and ill.progress().fraction == pytest.approx(1.0)
+
+
+def test_the_hook_holds_a_worker_in_the_middle_of_a_layer(load_example, monkeypatch):
+    from blobtree_ink.pipeline import layers as LY
+    monkeypatch.setattr(LY, "CHUNK", 60)
+    RN.HOLD.arm(at=("hatching", 2))
+    ill = PL.Illustration(job_for(load_example, "pear", "hatched", requests=[PL.Request("PLACE_STROKES")]))
+    r = RN.Runner(ill).start()
+    assert RN.HOLD.reached.wait(120)
+    assert ill.position() == ("hatching", 2) and r.latest().strokes.count("Hatching") > 0
+    r.stop()
+    r.join()
+    got = r.latest()
+    assert got.stopped and got.owned == ("Hatching",) and ill.position()[0] == "done"

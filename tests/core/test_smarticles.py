@@ -5,7 +5,6 @@ import numpy as np
 import pytest
 
 from blobtree_ink import model as M
-from blobtree_ink.agents import steering as st
 from blobtree_ink.strokes import layers, smarticles as sm
 
 K = math.sqrt(1 - 0.5 ** (1 / 3))
