@@ -4,9 +4,10 @@
 
 Starts Xvfb, starts Blender (full UI, factory settings, the extension enabled by the
 UI script) and then follows the steps the UI script asks for: the script writes
-requests into DIR/request-N.json ({"action": "screenshot"|"key"|"done", ...}) and the
-harness answers with DIR/reply-N.json after taking an `xwd -root` screenshot (Blender's
-own screenshot operator gives a black image under Xvfb) or sending keys with xdotool.
+requests into DIR/request-N.json ({"action": "screenshot"|"key"|"type"|"mouse"|"done", ...})
+and the harness answers with DIR/reply-N.json after taking an `xwd -root` screenshot
+(Blender's own screenshot operator gives a black image under Xvfb), or sending keys,
+typed text, or a mouse move (and click) to screen pixels with xdotool.
 """
 import argparse
 import json
@@ -65,6 +66,15 @@ def main():
             elif r["action"] == "key":
                 for k in r["keys"]:
                     subprocess.run(["xdotool", "key", k], env=env, check=True)
+                    time.sleep(r.get("pause", 0.2))
+            elif r["action"] == "type":
+                subprocess.run(["xdotool", "type", "--delay", "120", r["text"]], env=env, check=True)
+                time.sleep(r.get("pause", 0.2))
+            elif r["action"] == "mouse":
+                subprocess.run(["xdotool", "mousemove", str(r["x"]), str(r["y"])], env=env, check=True)
+                time.sleep(r.get("pause", 0.2))
+                if r.get("click"):
+                    subprocess.run(["xdotool", "click", str(r["click"])], env=env, check=True)
                     time.sleep(r.get("pause", 0.2))
             elif r["action"] == "done":
                 break
