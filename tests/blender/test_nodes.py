@@ -174,7 +174,7 @@ def test_broken_trees_show_the_reason_on_the_node(ext):
     # a zero radius
     neck.radius = 0.0
     e = compile_error(ext, t)
-    assert e.node == neck and errors(t) == {neck.name: "Radius must be > 0, got 0"}
+    assert e.node == neck and errors(t) == {neck.name: "Influence Radius must be > 0, got 0"}
     assert neck.use_custom_color
     # a NaN
     neck.radius = 1.0
@@ -281,7 +281,7 @@ def test_broken_tree_keeps_its_last_preview(ext):
     belly.radius = -1.0
     changes.run_due(float("inf"))
     assert len(t.preview_object.data.polygons) == n_before
-    assert belly.error == "Radius must be > 0, got -1"
+    assert belly.error == "Influence Radius must be > 0, got -1"
 
 
 def test_save_and_reload_keeps_the_tree(ext, example, tmp_path):
@@ -323,7 +323,7 @@ def test_export_of_a_broken_tree_fails_and_keeps_the_old_file(tmp_path):
     out = tmp_path / "pear.json"
     out.write_text("old")
     belly.radius = 0.0
-    with pytest.raises(RuntimeError, match="Radius must be > 0"):
+    with pytest.raises(RuntimeError, match="Influence Radius must be > 0"):
         bpy.ops.blobtree_ink.export_json(filepath=str(out), tree_name=t.name)
     assert out.read_text() == "old"
 
