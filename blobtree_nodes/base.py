@@ -1,5 +1,6 @@
 """What every BlobTree node shares: the tree poll, the error shown on the node, exact
-values kept for round trips, and live-preview scheduling on edits.
+values kept for round trips, live-preview scheduling on edits, and the numbered inputs
+of n-ary nodes.
 
 Blender stores float properties in single precision. So that a model imported from
 JSON exports (and evaluates) with its exact double values, the importer records each
@@ -28,8 +29,10 @@ def on_edit(self, context):
 class BlobTreeNode:
     """Mixin for all BlobTree nodes. Subclasses set ``kind`` (the format type)."""
     kind = ""
-    error: bpy.props.StringProperty(name="Error", options={"SKIP_SAVE"})
-    exact: bpy.props.StringProperty(name="Exact values", options={"HIDDEN"})
+    error: bpy.props.StringProperty(name="Error", options={"SKIP_SAVE"},
+                                    description="Why the tree cannot be compiled at this node (empty when it can)")
+    exact: bpy.props.StringProperty(name="Exact Values", options={"HIDDEN"},
+                                    description="The exact imported values behind the single-precision properties")
 
     @classmethod
     def poll(cls, ntree):
@@ -95,7 +98,12 @@ def _wrap(text, width):
     return lines or [""]
 
 
-def new_input(node, name="Field", fresh=False):
+def input_name(name, number):
+    """An n-ary node's numbered inputs: "Field 1", "Field 2", ... ("Subtract 1", ...)."""
+    return f"{name} {number}"
+
+
+def new_input(node, name, fresh=False):
     # an explicit identifier spares Blender its linear search for a free one, which
     # makes adding sockets to a node with hundreds of inputs quadratic; ``fresh``: the
     # node's inputs were all made here, in0..in{k-1}, so in{k} is free
@@ -107,11 +115,16 @@ def new_input(node, name="Field", fresh=False):
     return ins.new(SOCKET, name, identifier=ident)
 
 
-def ensure_trailing_input(node, keep_first=0, name="Field"):
-    """N-ary inputs the Blender way: one empty socket after the linked ones."""
+def ensure_trailing_input(node, keep_first, name):
+    """N-ary inputs the Blender way: one empty socket after the linked ones, numbered
+    from 1 after the ``keep_first`` fixed ones (a name is written only when it changes)."""
     ins = node.inputs
     for s in list(ins)[keep_first:-1]:
         if not s.is_linked:
             ins.remove(s)
     if len(ins) <= keep_first or ins[-1].is_linked:
-        new_input(node, name)
+        new_input(node, input_name(name, len(ins) - keep_first + 1))
+    for number, s in enumerate(list(ins)[keep_first:], 1):
+        want = input_name(name, number)
+        if s.name != want:
+            s.name = want

@@ -10,7 +10,7 @@ import bpy
 
 from ..model import nodes as N
 from . import props
-from .base import BlobTreeNode, ensure_trailing_input, new_input, on_edit
+from .base import BlobTreeNode, ensure_trailing_input, input_name, new_input, on_edit
 
 LABEL = {"point": "Point", "segment": "Segment", "circle": "Circle", "disc": "Disc", "box": "Box",
          "blend": "Blend", "ricci": "Ricci Blend", "union": "Union", "intersection": "Intersection",
@@ -60,6 +60,11 @@ class suspend_socket_updates:
 
 class _Nary(BlobTreeNode):
     first_label = None      # difference: the first input is the base
+    input_label = "Field"   # the others are numbered: "Field 1", "Field 2", ...
+
+    @classmethod
+    def fixed_inputs(cls):
+        return 1 if cls.first_label else 0
 
     def init(self, context):
         _initialising[0] += 1
@@ -67,15 +72,14 @@ class _Nary(BlobTreeNode):
             self.outputs.new("BlobTreeInkFieldSocket", "Field")
             if self.first_label:
                 new_input(self, self.first_label)
-            new_input(self, "Subtract" if self.first_label else "Field")
+            new_input(self, input_name(self.input_label, 1))
         finally:
             _initialising[0] -= 1
 
     def update(self):
         if _initialising[0] or not self.inputs:
             return
-        ensure_trailing_input(self, keep_first=1 if self.first_label else 0,
-                              name="Subtract" if self.first_label else "Field")
+        ensure_trailing_input(self, self.fixed_inputs(), self.input_label)
 
     def draw_props(self, context, layout):
         for key in props.value_keys(self.kind):
@@ -86,7 +90,7 @@ class _Unary(BlobTreeNode):
     bl_width_default = 180
     def init(self, context):
         self.outputs.new("BlobTreeInkFieldSocket", "Field")
-        new_input(self)
+        new_input(self, "Field")
 
     def draw_props(self, context, layout):
         if self.kind == "transform":
@@ -111,6 +115,7 @@ def _make(kind, base):
              "__annotations__": ann, "__doc__": f"BlobTree {LABEL[kind].lower()}"}
     if kind == "difference":
         attrs["first_label"] = "Base"
+        attrs["input_label"] = "Subtract"
     return type(idname(kind) + "Class", (base, bpy.types.Node), attrs)
 
 

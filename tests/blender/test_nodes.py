@@ -78,7 +78,7 @@ def test_dynamic_inputs_grow_and_shrink():
     blend.update()
     assert len(blend.inputs) == 2 and blend.inputs[0].is_linked and not blend.inputs[1].is_linked
     diff = add(t, "difference")
-    assert [s.name for s in diff.inputs] == ["Base", "Subtract"]
+    assert [s.name for s in diff.inputs] == ["Base", "Subtract 1"]
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
