@@ -1,15 +1,18 @@
 """What an artist sees of BlobTree nodes: distinct, described labels; vectors with two
-decimals, one component a row; numbered n-ary inputs."""
+decimals, one component a row; numbered n-ary inputs; errors whole on the node, in the
+sidebar and in a tooltip."""
 import math
 from importlib import import_module
 from types import SimpleNamespace
 
+import blf
 import bpy
 import pytest
 
 from recording_layout import Layout
 
 PKG = "bl_ext.user_default.blobtree_ink.blobtree_nodes"
+SHOW_ERROR = "blobtree_ink.show_node_error"
 
 
 def mod(name):
@@ -120,3 +123,91 @@ def test_imported_operators_have_numbered_inputs(example):
         label = "Subtract" if n.kind == "difference" else "Field"
         assert [s.name for s in n.inputs] == fixed + [f"{label} {i}" for i in range(1, len(n.inputs) - len(fixed) + 1)]
         assert not n.inputs[-1].is_linked and all(s.is_linked for s in n.inputs[len(fixed):-1])
+
+
+LONG_ERROR = ("the link from 'A node with an unusually long name that no node is wide enough for' is invalid "
+              "(a cycle or an incompatible socket)")
+
+
+def error_lines(rec):
+    return [i["text"] for i in rec.of("label") if "box" in i["path"] and i["text"]]
+
+
+def text_width(text):
+    blf.size(0, bpy.context.preferences.ui_styles[0].widget.points)
+    return blf.dimensions(0, text)[0]
+
+
+@pytest.mark.parametrize("width", [140, 190, 400])
+def test_the_error_on_a_node_is_whole_and_fits_the_nodes_width(width):
+    wrap = mod("wrap")
+    node = new_tree().nodes.new(mod("nodes").idname("blend"))
+    node.width = width
+    node.set_error(LONG_ERROR)
+    lines = error_lines(drawn(node))
+    assert "".join(lines).replace(" ", "") == LONG_ERROR.replace(" ", "")    # nothing cut off
+    assert all(text_width(line) <= wrap.node_text_width(bpy.context, width) for line in lines), lines
+    short = "needs at least 1 linked input"
+    node.set_error(short)
+    assert " ".join(error_lines(drawn(node))) == short
+
+
+def test_a_narrower_node_wraps_into_more_lines():
+    node = new_tree().nodes.new(mod("nodes").idname("blend"))
+    node.set_error(LONG_ERROR)
+    counts = []
+    for width in (400, 190, 140):
+        node.width = width
+        counts.append(len(error_lines(drawn(node))))
+    assert counts[0] < counts[1] < counts[2]
+
+
+def test_the_error_icons_tooltip_is_the_whole_error_and_a_click_selects_the_node():
+    t = new_tree()
+    node, other = (t.nodes.new(mod("nodes").idname("blend")) for _ in range(2))
+    node.set_error(LONG_ERROR)
+    (icon,) = [i for i in drawn(node).of("operator") if i["idname"] == SHOW_ERROR]
+    assert icon["icon"] == "ERROR"
+    op = mod("show_node_error").BLOBTREE_INK_OT_show_node_error
+    assert op.description(bpy.context, icon["props"]) == f"{node.name}: {LONG_ERROR}"
+    other.select = True
+    assert bpy.ops.blobtree_ink.show_node_error(tree_name=t.name, node_name=node.name) == {"FINISHED"}
+    assert t.nodes.active == node and node.select and not other.select
+    node.set_error("")
+    assert op.description(bpy.context, icon["props"]) is None      # then the operator's own docstring
+
+
+def sidebar(tree, active, width=300):
+    context = SimpleNamespace(space_data=SimpleNamespace(tree_type=tree.bl_idname, edit_tree=tree),
+                              active_node=active, region=SimpleNamespace(width=width),
+                              preferences=bpy.context.preferences)
+    panel = mod("panels").NODE_PT_blobtree_ink_errors
+    assert panel.poll(context)
+    rec = Layout()
+    panel.draw(SimpleNamespace(layout=rec), context)
+    return rec
+
+
+def test_the_sidebar_shows_the_active_nodes_whole_error_and_lists_the_others():
+    wrap = mod("wrap")
+    t = new_tree()
+    blend, out, point = (t.nodes.new(mod("nodes").idname(k) if k != "output" else "BlobTreeInkOutputNode")
+                         for k in ("blend", "output", "point"))
+    t.links.new(blend.outputs[0], out.inputs[0])
+    assert mod("compile").tree_model_or_none(t) is None
+    assert blend.error == "needs at least 1 linked input"
+    out.set_error(LONG_ERROR)
+    rec = sidebar(t, out, width=260)
+    lines = error_lines(rec)
+    assert "".join(lines).replace(" ", "") == LONG_ERROR.replace(" ", "") and len(lines) > 2
+    assert all(text_width(line) <= wrap.region_text_width(bpy.context, 260) for line in lines)
+    (others,) = [i for i in rec.of("operator") if i["text"] == blend.name]
+    assert others["idname"] == SHOW_ERROR and others["props"].node_name == blend.name and others["props"].frame
+    # a node without an error: the others are still listed
+    rec = sidebar(t, point)
+    assert not error_lines(rec) and {i["text"] for i in rec.of("operator")} == {blend.name, out.name}
+    for n in (blend, out):
+        n.set_error("")
+    assert [i["text"] for i in sidebar(t, point).of("label")] == ["No node has an error"]
+    other_tree = SimpleNamespace(space_data=SimpleNamespace(tree_type="ShaderNodeTree", edit_tree=t))
+    assert not mod("panels").NODE_PT_blobtree_ink_errors.poll(other_tree)
