@@ -1,6 +1,6 @@
 """What an artist sees of BlobTree nodes: distinct, described labels; vectors with two
 decimals, one component a row; numbered n-ary inputs; errors whole on the node, in the
-sidebar and in a tooltip."""
+sidebar and in a tooltip; the Add menu's searchable submenus."""
 import math
 from importlib import import_module
 from types import SimpleNamespace
@@ -211,3 +211,37 @@ def test_the_sidebar_shows_the_active_nodes_whole_error_and_lists_the_others():
     assert [i["text"] for i in sidebar(t, point).of("label")] == ["No node has an error"]
     other_tree = SimpleNamespace(space_data=SimpleNamespace(tree_type="ShaderNodeTree", edit_tree=t))
     assert not mod("panels").NODE_PT_blobtree_ink_errors.poll(other_tree)
+
+
+def test_the_add_menu_is_searchable_and_lists_every_node_type():
+    menu = mod("menu")
+    assert menu.draw_in_node_add_menu in bpy.types.NODE_MT_add._dyn_ui_initialize()
+    assert "SEARCH_ON_KEY_PRESS" in bpy.types.NODE_MT_add.bl_options
+    add = getattr(bpy.types, "NODE_MT_blobtree_ink_add")
+    assert "SEARCH_ON_KEY_PRESS" in add.bl_options
+    blobtree = SimpleNamespace(space_data=SimpleNamespace(tree_type="BlobTreeInkNodeTree"))
+    shader = SimpleNamespace(space_data=SimpleNamespace(tree_type="ShaderNodeTree"))
+    rec = Layout()
+    menu.draw_in_node_add_menu(SimpleNamespace(layout=rec), blobtree)
+    assert [i["menu"] for i in rec.of("menu_contents")] == ["NODE_MT_blobtree_ink_add"]
+    rec = Layout()
+    menu.draw_in_node_add_menu(SimpleNamespace(layout=rec), shader)
+    assert rec.items == []
+    rec = Layout()
+    add.draw(SimpleNamespace(layout=rec), blobtree)
+    sub_names = [i["menu"] for i in rec.of("menu")]
+    labels = [getattr(bpy.types, m).bl_label for m in sub_names]
+    assert labels == ["Primitives", "Operators", "Warps", "Output"]
+    listed = []
+    for m in sub_names:
+        sub = getattr(bpy.types, m)
+        assert sub.poll(blobtree) and not sub.poll(shader)
+        rec = Layout()
+        sub.draw(SimpleNamespace(layout=rec, node_idnames=sub.node_idnames), blobtree)
+        for item in rec.of("operator"):
+            assert item["idname"] == "node.add_node" and item["props"].use_transform
+            assert item["text"] == bpy.types.Node.bl_rna_get_subclass(item["props"].type).name
+            listed.append(item["props"].type)
+    assert sorted(listed) == sorted(all_idnames()) and len(listed) == 15
+    import nodeitems_utils
+    assert not nodeitems_utils.has_node_categories(blobtree)          # no second, legacy Add menu

@@ -309,15 +309,6 @@ def test_undo_and_redo_schedule_previews(ext):
     assert preview._after_undo in bpy.app.handlers.undo_post and preview._after_undo in bpy.app.handlers.redo_post
 
 
-def test_add_menu_categories(ext):
-    import nodeitems_utils
-    cats = {c.identifier: c for c in nodeitems_utils._node_categories["BLOBTREE_INK_NODES"][0]}
-    assert set(cats) == {"BLOBTREE_INK_PRIMITIVES", "BLOBTREE_INK_OPERATORS", "BLOBTREE_INK_WARPS",
-                         "BLOBTREE_INK_OUTPUT"}
-    items = {i.nodetype for c in cats.values() for i in c.items(None)}
-    assert len(items) == 15     # 5 primitives, 5 operators, 4 warps, the output
-
-
 def test_export_of_a_broken_tree_fails_and_keeps_the_old_file(tmp_path):
     t, (diff, body, belly, neck, stalk, bite) = pear_by_hand()
     out = tmp_path / "pear.json"
