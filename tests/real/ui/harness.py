@@ -30,9 +30,17 @@ def wait_for(path, timeout, proc=None):
     return False
 
 
-def screenshot(display, png):
-    xwd = subprocess.run(["xwd", "-root", "-silent", "-display", display], check=True, capture_output=True).stdout
-    subprocess.run(["convert", "xwd:-", "png:" + png], input=xwd, check=True)
+def screenshot(display, png, tries=5):
+    """The screen as a PNG; taken again when it is one flat colour (caught mid-redraw)."""
+    for _ in range(tries):
+        xwd = subprocess.run(["xwd", "-root", "-silent", "-display", display], check=True,
+                             capture_output=True).stdout
+        subprocess.run(["convert", "xwd:-", "png:" + png], input=xwd, check=True)
+        colours = subprocess.run(["identify", "-format", "%k", png], check=True, capture_output=True,
+                                 text=True).stdout
+        if colours.strip() != "1":
+            return
+        time.sleep(0.5)
 
 
 def main():
