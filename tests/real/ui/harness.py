@@ -43,6 +43,26 @@ def screenshot(display, png, tries=5):
         time.sleep(0.5)
 
 
+def start_xvfb(display, tries=5):
+    """Xvfb on ``display``, once it answers (under load it can take more than a second,
+    and a display its previous server just left may refuse a new one for a moment)."""
+    env = dict(os.environ, DISPLAY=display)
+    for _ in range(tries):
+        xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", "1600x900x24", "-nolisten", "tcp"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        for _ in range(100):
+            if xvfb.poll() is not None:
+                break
+            if subprocess.run(["xdotool", "getdisplaygeometry"], env=env, capture_output=True).returncode == 0:
+                return xvfb
+            time.sleep(0.1)
+        if xvfb.poll() is None:
+            xvfb.terminate()
+            xvfb.wait()
+        time.sleep(1.0)
+    sys.exit(f"Xvfb did not start on {display}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--script", required=True)
@@ -53,12 +73,10 @@ def main():
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
     env = dict(os.environ, DISPLAY=a.display, BLENDER_USER_RESOURCES=a.user, BTI_UI_OUT=a.out)
-    xvfb = subprocess.Popen(["Xvfb", a.display, "-screen", "0", "1600x900x24", "-nolisten", "tcp"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    xvfb = start_xvfb(a.display)
     log = open(os.path.join(a.out, "blender.log"), "w")
     blender = None
     try:
-        time.sleep(1.0)
         blender = subprocess.Popen(["blender", "--factory-startup", "--python", a.script],
                                    env=env, stdout=log, stderr=subprocess.STDOUT)
         n = 0
