@@ -1,9 +1,11 @@
-"""The BlobTree node editor (Blender layer): tree, nodes, compiler, preview, menus."""
+"""The BlobTree node editor (Blender layer): tree, nodes, compiler, preview, menus,
+the sidebar's Errors panel."""
 import bpy
 
-from . import menu, nodes, preview, settings, sockets, tree
+from . import menu, nodes, panels, preview, settings, show_node_error, sockets, tree
 
-classes = (*settings.classes, *sockets.classes, *tree.classes, *nodes.classes)
+classes = (*settings.classes, *sockets.classes, *tree.classes, *nodes.classes, *show_node_error.classes,
+           *panels.classes)
 
 
 def register():

@@ -1,5 +1,6 @@
-"""What every BlobTree node shares: the tree poll, the error shown on the node, exact
-values kept for round trips, and live-preview scheduling on edits.
+"""What every BlobTree node shares: the tree poll, the error shown on the node (wrapped
+to the node's width, its whole text also in the icon's tooltip), exact values kept for
+round trips, live-preview scheduling on edits, and the numbered inputs of n-ary nodes.
 
 Blender stores float properties in single precision. So that a model imported from
 JSON exports (and evaluates) with its exact double values, the importer records each
@@ -11,11 +12,17 @@ import json
 
 import bpy
 
-from . import changes
+from . import changes, wrap
 from .sockets import SOCKET
 
 TREE = "BlobTreeInkNodeTree"
 ERROR_COLOR = (0.65, 0.12, 0.12)
+SHOW_ERROR = "blobtree_ink.show_node_error"     # its tooltip is the node's whole error
+
+
+def in_blobtree_editor(context):
+    """The context is a node editor showing BlobTree trees."""
+    return getattr(context.space_data, "tree_type", "") == TREE
 
 
 def on_edit(self, context):
@@ -28,8 +35,10 @@ def on_edit(self, context):
 class BlobTreeNode:
     """Mixin for all BlobTree nodes. Subclasses set ``kind`` (the format type)."""
     kind = ""
-    error: bpy.props.StringProperty(name="Error", options={"SKIP_SAVE"})
-    exact: bpy.props.StringProperty(name="Exact values", options={"HIDDEN"})
+    error: bpy.props.StringProperty(name="Error", options={"SKIP_SAVE"},
+                                    description="Why the tree cannot be compiled at this node (empty when it can)")
+    exact: bpy.props.StringProperty(name="Exact Values", options={"HIDDEN"},
+                                    description="The exact imported values behind the single-precision properties")
 
     @classmethod
     def poll(cls, ntree):
@@ -37,10 +46,11 @@ class BlobTreeNode:
 
     def draw_buttons(self, context, layout):
         if self.error:
-            box = layout.box()
-            box.alert = True
-            for i, line in enumerate(_wrap(self.error, 34)):
-                box.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
+            draw_error(layout, context, self, wrap.node_text_width(context, self.width))
+        self.draw_props(context, layout)
+
+    def draw_buttons_ext(self, context, layout):
+        # the sidebar: its Errors panel shows the error at the sidebar's width
         self.draw_props(context, layout)
 
     def draw_props(self, context, layout):
@@ -82,20 +92,29 @@ class BlobTreeNode:
             self.color = ERROR_COLOR
 
 
-def _wrap(text, width):
-    words, lines, cur = text.split(), [], ""
-    for w in words:
-        if cur and len(cur) + 1 + len(w) > width:
-            lines.append(cur)
-            cur = w
+def draw_error(layout, context, node, width):
+    """The node's whole error in a red box, wrapped to ``width`` text pixels; hovering
+    the icon shows the whole message as a tooltip."""
+    box = layout.box()
+    box.alert = True
+    col = box.column(align=True)
+    for i, line in enumerate(wrap.lines(node.error, width, context)):
+        row = col.row(align=True)
+        if i == 0:
+            op = row.operator(SHOW_ERROR, text="", icon="ERROR", emboss=False)
+            op.tree_name = node.id_data.name
+            op.node_name = node.name
         else:
-            cur = f"{cur} {w}" if cur else w
-    if cur:
-        lines.append(cur)
-    return lines or [""]
+            row.label(text="", icon="BLANK1")
+        row.label(text=line)
 
 
-def new_input(node, name="Field", fresh=False):
+def input_name(name, number):
+    """An n-ary node's numbered inputs: "Field 1", "Field 2", ... ("Subtract 1", ...)."""
+    return f"{name} {number}"
+
+
+def new_input(node, name, fresh=False):
     # an explicit identifier spares Blender its linear search for a free one, which
     # makes adding sockets to a node with hundreds of inputs quadratic; ``fresh``: the
     # node's inputs were all made here, in0..in{k-1}, so in{k} is free
@@ -107,11 +126,16 @@ def new_input(node, name="Field", fresh=False):
     return ins.new(SOCKET, name, identifier=ident)
 
 
-def ensure_trailing_input(node, keep_first=0, name="Field"):
-    """N-ary inputs the Blender way: one empty socket after the linked ones."""
+def ensure_trailing_input(node, keep_first, name):
+    """N-ary inputs the Blender way: one empty socket after the linked ones, numbered
+    from 1 after the ``keep_first`` fixed ones (a name is written only when it changes)."""
     ins = node.inputs
     for s in list(ins)[keep_first:-1]:
         if not s.is_linked:
             ins.remove(s)
     if len(ins) <= keep_first or ins[-1].is_linked:
-        new_input(node, name)
+        new_input(node, input_name(name, len(ins) - keep_first + 1))
+    for number, s in enumerate(list(ins)[keep_first:], 1):
+        want = input_name(name, number)
+        if s.name != want:
+            s.name = want

@@ -8,7 +8,7 @@ import json
 
 from ..model import nodes as N
 from . import changes, props
-from .base import new_input
+from .base import input_name, new_input
 from .nodes import LABEL, idname, suspend_socket_updates
 
 COLUMN = 260.0
@@ -112,9 +112,9 @@ def _add_node(tree, names, node, depth, rows, where, stack):
     if kind in N.OPERATORS:
         kids = node.children
         # sockets: the node starts with its own (Base + one, or one); add the rest
-        first = 1 if kind == "difference" else 0
+        first = bn.fixed_inputs()
         while len(bn.inputs) < len(kids):
-            new_input(bn, "Subtract" if first else "Field", fresh=True)
+            new_input(bn, input_name(bn.input_label, len(bn.inputs) - first + 1), fresh=True)
         for child, sock in reversed(list(zip(kids, bn.inputs))):
             stack.append((child, depth + 1, sock))
     elif kind in N.UNARY:

@@ -167,7 +167,7 @@ def compile_tree(tree, mark=True):
                 raise TreeError(None, msg) from None
             path, node = found
             detail = msg[len(path):].lstrip(".")
-            raise TreeError(node, _friendly(detail)) from None
+            raise TreeError(node, _friendly(node.kind, detail)) from None
     except TreeError as e:
         if mark:
             clear_errors(tree)
@@ -179,11 +179,11 @@ def compile_tree(tree, mark=True):
     return model
 
 
-def _friendly(detail):
-    # "radius: must be > 0, got 0" -> "Radius must be > 0, got 0"
+def _friendly(kind, detail):
+    # "radius: must be > 0, got 0" -> "Influence Radius must be > 0, got 0"
     key, _, rest = detail.partition(":")
     base = key.split("[")[0]
-    label = props.LABELS.get(base, base)
+    label = props.label(kind, base)
     return f"{label}{key[len(base):]} {rest.strip()}" if rest else detail
 
 

@@ -142,3 +142,43 @@ def test_real_ui_stays_responsive_while_the_shell_is_illustrated(user_dir, tmp_p
         assert run_["max_gap_less_drawing"] < 0.25, f"{name}: the UI stalled for {run_['max_gap_less_drawing']:.3f} s"
         assert run_["median_gap"] < 0.1, f"{name}: the UI was busy half the time ({run_['median_gap']:.3f} s)"
     shutil.copy(os.path.join(out, "responsive_shell.png"), artifact("responsive_shell.png"))
+
+
+def run_ui_script(script, user_dir, tmp_path):
+    """Run a tests/real/ui script through the harness: (its output folder, its facts)."""
+    out = str(tmp_path / "ui")
+    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
+                "--script", os.path.join(REPO, "tests", "real", "ui", script),
+                "--out", out, "--user", user_dir, timeout=300)
+    facts = json.load(open(os.path.join(out, "facts.json")))
+    print(f"real-UI {script}:", json.dumps(facts))
+    return out, facts
+
+
+def test_real_ui_add_menu_search_and_whole_node_errors(user_dir, tmp_path):
+    """Shift+A, "poi", Return and a click add a Point node; an error is on its node
+    whole (wrapped), in the sidebar's Errors panel and in the error icon's tooltip."""
+    out, facts = run_ui_script("node_editor.py", user_dir, tmp_path)
+    assert "error" not in facts, facts.get("error")
+    assert facts["nodes_before"] == [] and facts["nodes_after_add"] == ["point"]
+    assert facts["added_is_active"] is True
+    # it followed the mouse from where the menu opened to the click that placed it
+    near_click, near_start = (np.hypot(*np.subtract(facts["point_top_left"], p)) for p in (facts["click"], facts["mouse"]))
+    assert near_click < 150 and near_click < near_start, (near_click, near_start)
+    assert facts["point_center"] == [1.1, -2.25, 12.34]
+    assert facts["output_error"] == "nothing is linked to the Model Output"
+    assert facts["panel_shown"] is True and facts["sidebar_category"] == "Node"
+    assert " ".join(facts["sidebar_lines"]) == facts["output_error"]
+    assert facts["blend_error"] == "needs at least 1 linked input" and facts["output_error_after_link"] == ""
+    assert facts["blend_inputs"] == ["Field 1"]
+    shots = {}
+    for name in ("node_add_search.png", "node_error_output.png", "node_error_blend.png", "node_error_tooltip.png"):
+        png = artifact(name)
+        shutil.copy(os.path.join(out, name), png)
+        shots[name] = img = read_png(png).astype(int)
+        assert img.std() > 10 and len(np.unique(img.reshape(-1, 3), axis=0)) > 50
+    # hovering the error icon drew a tooltip below the mouse
+    x, y = facts["icon_at"]
+    below = (slice(y + 10, y + 60), slice(max(x - 40, 0), x + 200))
+    changed = np.abs(shots["node_error_tooltip.png"][below] - shots["node_error_blend.png"][below]).sum(axis=2) > 30
+    assert changed.mean() > 0.2

@@ -4,9 +4,10 @@
 
 Starts Xvfb, starts Blender (full UI, factory settings, the extension enabled by the
 UI script) and then follows the steps the UI script asks for: the script writes
-requests into DIR/request-N.json ({"action": "screenshot"|"key"|"done", ...}) and the
-harness answers with DIR/reply-N.json after taking an `xwd -root` screenshot (Blender's
-own screenshot operator gives a black image under Xvfb) or sending keys with xdotool.
+requests into DIR/request-N.json ({"action": "screenshot"|"key"|"type"|"mouse"|"done", ...})
+and the harness answers with DIR/reply-N.json after taking an `xwd -root` screenshot
+(Blender's own screenshot operator gives a black image under Xvfb), or sending keys,
+typed text, or a mouse move (and click) to screen pixels with xdotool.
 """
 import argparse
 import json
@@ -29,9 +30,37 @@ def wait_for(path, timeout, proc=None):
     return False
 
 
-def screenshot(display, png):
-    xwd = subprocess.run(["xwd", "-root", "-silent", "-display", display], check=True, capture_output=True).stdout
-    subprocess.run(["convert", "xwd:-", "png:" + png], input=xwd, check=True)
+def screenshot(display, png, tries=5):
+    """The screen as a PNG; taken again when it is one flat colour (caught mid-redraw)."""
+    for _ in range(tries):
+        xwd = subprocess.run(["xwd", "-root", "-silent", "-display", display], check=True,
+                             capture_output=True).stdout
+        subprocess.run(["convert", "xwd:-", "png:" + png], input=xwd, check=True)
+        colours = subprocess.run(["identify", "-format", "%k", png], check=True, capture_output=True,
+                                 text=True).stdout
+        if colours.strip() != "1":
+            return
+        time.sleep(0.5)
+
+
+def start_xvfb(display, screen, tries=5):
+    """Xvfb on ``display``, once it answers (under load it can take more than a second,
+    and a display its previous server just left may refuse a new one for a moment)."""
+    env = dict(os.environ, DISPLAY=display)
+    for _ in range(tries):
+        xvfb = subprocess.Popen(["Xvfb", display, "-screen", "0", f"{screen}x24", "-nolisten", "tcp"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        for _ in range(100):
+            if xvfb.poll() is not None:
+                break
+            if subprocess.run(["xdotool", "getdisplaygeometry"], env=env, capture_output=True).returncode == 0:
+                return xvfb
+            time.sleep(0.1)
+        if xvfb.poll() is None:
+            xvfb.terminate()
+            xvfb.wait()
+        time.sleep(1.0)
+    sys.exit(f"Xvfb did not start on {display}")
 
 
 def main():
@@ -47,12 +76,10 @@ def main():
         a.display = next(f":{n}" for n in range(77, 200) if not os.path.exists(f"/tmp/.X{n}-lock"))
     os.makedirs(a.out, exist_ok=True)
     env = dict(os.environ, DISPLAY=a.display, BLENDER_USER_RESOURCES=a.user, BTI_UI_OUT=a.out)
-    xvfb = subprocess.Popen(["Xvfb", a.display, "-screen", "0", f"{a.screen}x24", "-nolisten", "tcp"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    xvfb = start_xvfb(a.display, a.screen)
     log = open(os.path.join(a.out, "blender.log"), "w")
     blender = None
     try:
-        time.sleep(1.0)
         blender = subprocess.Popen(["blender", "--factory-startup", "--python", a.script],
                                    env=env, stdout=log, stderr=subprocess.STDOUT)
         n = 0
@@ -68,6 +95,15 @@ def main():
             elif r["action"] == "key":
                 for k in r["keys"]:
                     subprocess.run(["xdotool", "key", k], env=env, check=True)
+                    time.sleep(r.get("pause", 0.2))
+            elif r["action"] == "type":
+                subprocess.run(["xdotool", "type", "--delay", "120", r["text"]], env=env, check=True)
+                time.sleep(r.get("pause", 0.2))
+            elif r["action"] == "mouse":
+                subprocess.run(["xdotool", "mousemove", str(r["x"]), str(r["y"])], env=env, check=True)
+                time.sleep(r.get("pause", 0.2))
+                if r.get("click"):
+                    subprocess.run(["xdotool", "click", str(r["click"])], env=env, check=True)
                     time.sleep(r.get("pause", 0.2))
             elif r["action"] == "done":
                 break
