@@ -61,30 +61,47 @@ def _linked_from(socket, incoming):
     return None
 
 
-def _object_vector(obj):
-    return [float(x) for x in obj.matrix_world.translation]
+class Followed:
+    """The objects a tree's nodes follow, as the tree sees them: evaluated (animation,
+    parents, constraints: the depsgraph's) and in the model's coordinates (the inverse of
+    the placement of the model, its preview object's matrix)."""
+
+    def __init__(self, tree, depsgraph=None):
+        self.depsgraph = depsgraph
+        placement = tree.preview_object
+        self.inverse = self.world(placement).inverted_safe() if placement is not None else None
+
+    def world(self, obj):
+        if self.depsgraph is None:
+            self.depsgraph = bpy.context.evaluated_depsgraph_get()
+        return obj.evaluated_get(self.depsgraph).matrix_world
+
+    def matrix(self, obj):
+        m = self.world(obj)
+        return m if self.inverse is None else self.inverse @ m
 
 
-def _node_doc(node):
+def _node_doc(node, followed):
     """This node's own keys (no children) as a blobtree-1 fragment."""
     d = {"type": node.kind}
     if node.label:
         d["name"] = node.label
     if node.kind == "transform" and node.source_object is not None:
-        obj = node.source_object
-        loc, rot, scale = obj.matrix_world.decompose()
+        loc, rot, scale = followed.matrix(node.source_object).decompose()
         eul = rot.to_euler("XYZ")
         d.update(translate=[float(x) for x in loc], rotate=[float(x) for x in eul],
                  scale=[float(x) for x in scale])
         return d
     for key in props.value_keys(node.kind):
         obj = getattr(node, f"{key}_object", None)
-        d[key] = _object_vector(obj) if obj is not None else node.value(key)
+        d[key] = [float(x) for x in followed.matrix(obj).translation] if obj is not None else node.value(key)
     return d
 
 
-def tree_document(tree):
-    """(document, paths): the blobtree-1 document and {json path: node}."""
+def tree_document(tree, depsgraph=None):
+    """(document, paths): the blobtree-1 document and {json path: node}; followed objects
+    as ``depsgraph`` evaluates them (default: the context's)."""
+    followed = Followed(tree, depsgraph)
     out = output_node(tree)
     incoming = {link.to_socket.as_pointer(): link for link in tree.links}
     root_node = _linked_from(out.inputs[0], incoming)
@@ -101,7 +118,7 @@ def tree_document(tree):
             raise TreeError(node, "the tree has a cycle through this node")
         on_path.add(key)
         paths[path] = node
-        d = _node_doc(node)
+        d = _node_doc(node, followed)
         if node.mute:
             raise TreeError(node, "muted nodes are not supported; unmute it or unlink it")
         if node.kind in ("blend", "ricci", "union", "intersection", "difference"):
@@ -147,13 +164,15 @@ def _node_for_error(message, paths):
     return best
 
 
-def compile_tree(tree, mark=True):
-    """The tree's Model; raises TreeError naming the node (and marks it) when broken."""
+def compile_tree(tree, mark=True, depsgraph=None):
+    """The tree's Model as it is now (its animated values, its followed objects as
+    ``depsgraph`` evaluates them: default the context's); raises TreeError naming the
+    node (and marks it) when broken."""
     if tree.bl_idname != TREE:
         raise TreeError(None, f"'{tree.name}' is not a BlobTree node tree")
     try:
         try:
-            doc, paths = tree_document(tree)
+            doc, paths = tree_document(tree, depsgraph)
         except RecursionError:
             raise TreeError(None, "the tree is nested too deeply") from None
         try:

@@ -2,6 +2,7 @@
 preview object places it (moving the preview moves the model and its ink)."""
 import bpy
 import numpy as np
+import pytest
 from mathutils import Vector
 
 
@@ -44,3 +45,29 @@ def test_moving_the_preview_moves_the_model_and_its_ink(example):
     eye = np.array(cam.location)
     n = (world - [5.0, 1.0, -2.0]) / r
     assert np.abs(np.einsum("ij,ij->i", n, world - eye)).max() < 1e-3 * np.linalg.norm(eye)   # its silhouette
+
+
+def test_a_followed_object_keeps_its_place_in_the_scene_when_the_model_moves(example):
+    """A primitive that follows an Empty sits at the Empty's place in the scene, parent
+    and constraint included, wherever the model's preview is."""
+    from importlib import import_module
+    comp = import_module("bl_ext.user_default.blobtree_ink.blobtree_nodes.compile")
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    tree = bpy.data.node_groups["sphere"]
+    point = next(n for n in tree.nodes if getattr(n, "kind", "") == "point")
+    parent = bpy.data.objects.new("Parent", None)
+    empty = bpy.data.objects.new("Target", None)
+    for o in (parent, empty):
+        bpy.context.scene.collection.objects.link(o)
+    empty.parent = parent
+    parent.location = (1.0, 2.0, 3.0)
+    empty.location = (0.5, 0.0, 0.0)                 # in the parent's space: (1.5, 2, 3) in the scene
+    point.center_object = empty
+    tree.preview_object.location = (10.0, 0.0, 0.0)
+    bpy.context.view_layer.update()
+    model = comp.compile_tree(tree)
+    assert tuple(model.root.center) == (-8.5, 2.0, 3.0)      # the scene's (1.5, 2, 3) in the model's space
+    con = empty.constraints.new("LIMIT_LOCATION")            # a constraint: x at most 1.2 in the scene
+    con.use_max_x, con.max_x = True, 1.2
+    bpy.context.view_layer.update()
+    assert comp.compile_tree(tree).root.center[0] == pytest.approx(-8.8, abs=1e-6)
