@@ -2,7 +2,7 @@
 the sidebar's Errors panel."""
 import bpy
 
-from . import menu, nodes, panels, preview, settings, show_node_error, sockets, tree
+from . import follow, menu, nodes, panels, preview, settings, show_node_error, sockets, tree
 
 classes = (*settings.classes, *sockets.classes, *tree.classes, *nodes.classes, *show_node_error.classes,
            *panels.classes)
@@ -13,9 +13,11 @@ def register():
         bpy.utils.register_class(c)
     menu.register()
     preview.register()
+    follow.register()
 
 
 def unregister():
+    follow.unregister()
     preview.unregister()
     menu.unregister()
     for c in reversed(classes):

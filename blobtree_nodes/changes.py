@@ -1,16 +1,17 @@
-"""Edits of BlobTree node trees, counted and debounced: an edit schedules the tree's
-preview to be rebuilt once edits have stopped for DELAY seconds (a timer; never on
-every step of a slider drag), and a running illustration stops when its tree's edit
-count moves. The state is module state keyed by tree name (not stored on Blender data
-or on Python wrappers). The rebuild itself is blobtree_nodes.preview's, which hands it
-in when it registers (:func:`on_due`)."""
+"""Changes of BlobTree node trees, debounced: a change schedules the tree's preview to
+be rebuilt once changes have stopped for DELAY seconds (a timer; never on every step
+of a slider drag or every frame of playback). An artist's edit is also counted: a
+running illustration stops when its tree's edit count moves. A move (the animation
+written at a new frame, a followed object moving: :func:`moving`) is not an edit. The
+state is module state keyed by tree name (not stored on Blender data or on Python
+wrappers). The rebuild itself is blobtree_nodes.preview's, which hands it in when it
+registers (:func:`on_due`)."""
 import contextlib
 import time
 
 import bpy
 
 DELAY = 0.35                     # seconds of quiet before a rebuild
-COLLECTION = "BlobTree Ink Previews"
 
 _pending = {}                    # tree name -> monotonic time the rebuild is due
 _edits = {}                      # tree name -> number of edits seen (a running illustration stops on change)
@@ -22,6 +23,7 @@ def edits(tree):
 
 
 _held = []                       # trees whose edits are being gathered (see hold)
+_moves = []                      # inside moving(): changes are moves, not edits
 
 
 @contextlib.contextmanager
@@ -39,11 +41,22 @@ def hold():
                 schedule(tree)
 
 
-def schedule(tree, delay=DELAY):
+@contextlib.contextmanager
+def moving():
+    """Changes made inside are moves (animation, followed objects), not edits."""
+    _moves.append(True)
+    try:
+        yield
+    finally:
+        _moves.pop()
+
+
+def schedule(tree, delay=DELAY, edit=True):
     if _held:
         _held[-1].add(tree.name)
         return
-    _edits[tree.name] = _edits.get(tree.name, 0) + 1
+    if edit and not _moves:
+        _edits[tree.name] = _edits.get(tree.name, 0) + 1
     _pending[tree.name] = time.monotonic() + delay
     if not bpy.app.timers.is_registered(_tick):
         bpy.app.timers.register(_tick, first_interval=delay)

@@ -1,0 +1,91 @@
+"""Models that move: on every frame change (in the UI, a bake, a render) each tree's
+animation is written at the new frame (blobtree_nodes.animation) and the trees that
+changed, or that follow objects, have their preview rebuilt (debounced, as edits are);
+when an object a tree follows moves (the artist drags it, a constraint), so does the
+tree's preview. A tree's followed objects are kept per tree until it is edited."""
+import bpy
+
+from . import animation, changes
+
+TREE = "BlobTreeInkNodeTree"
+_followed = {}                   # tree name -> (edit count, names of the objects its nodes follow)
+
+
+def trees():
+    return [t for t in bpy.data.node_groups if t.bl_idname == TREE]
+
+
+def followed(tree):
+    """Names of the objects the tree's nodes follow."""
+    edits = changes.edits(tree)
+    got = _followed.get(tree.name)
+    if got is None or got[0] != edits:
+        names = set()
+        for node in tree.nodes:
+            for key in node.bl_rna.properties.keys():
+                if key.endswith("object") and isinstance(getattr(node, key, None), bpy.types.Object):
+                    names.add(getattr(node, key).name)
+        got = _followed[tree.name] = (edits, names)
+    return got[1]
+
+
+def frame_of(scene):
+    return scene.frame_current + scene.frame_subframe
+
+
+def follow_frame(scene, depsgraph=None):
+    """Write every tree's animation at the scene's frame; schedule the previews of the
+    trees that changed or follow objects. Returns the trees that may have moved."""
+    moved = []
+    for tree in trees():
+        with changes.moving():
+            changed = animation.apply(tree, frame_of(scene), depsgraph)
+        if changed or followed(tree):
+            moved.append(tree)
+            if tree.show_preview:
+                changes.schedule(tree, edit=False)
+    return moved
+
+
+@bpy.app.handlers.persistent
+def _frame_changed(scene, depsgraph=None):
+    follow_frame(scene, depsgraph)
+
+
+@bpy.app.handlers.persistent
+def _depsgraph_updated(scene, depsgraph):
+    moved = {u.id.original.name for u in depsgraph.updates
+             if isinstance(u.id, bpy.types.Object) and u.is_updated_transform}
+    if not moved:
+        return
+    for tree in trees():
+        if tree.show_preview and moved & followed(tree):
+            changes.schedule(tree, edit=False)
+
+
+@bpy.app.handlers.persistent
+def _loaded(*_args):
+    _followed.clear()
+    scene = bpy.context.scene
+    if scene is not None:
+        for tree in trees():
+            with changes.moving():
+                animation.apply(tree, frame_of(scene))
+
+
+HANDLERS = ((bpy.app.handlers.frame_change_post, _frame_changed),
+            (bpy.app.handlers.depsgraph_update_post, _depsgraph_updated),
+            (bpy.app.handlers.load_post, _loaded))
+
+
+def register():
+    for lst, fn in HANDLERS:
+        if fn not in lst:
+            lst.append(fn)
+
+
+def unregister():
+    for lst, fn in HANDLERS:
+        if fn in lst:
+            lst.remove(fn)
+    _followed.clear()

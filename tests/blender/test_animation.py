@@ -1,0 +1,91 @@
+"""Models that move: keyframed and driven node values, and objects the nodes follow
+(with their parents and constraints), at the scene's frame; the preview follows."""
+import bpy
+import numpy as np
+import pytest
+
+
+def mod(ext, name):
+    from importlib import import_module
+    return import_module(f"{ext.__name__}.{name}")
+
+
+def two_spheres(example):
+    bpy.ops.blobtree_ink.import_json(filepath=example("two_spheres"), preview=True)
+    tree = bpy.data.node_groups["two_spheres"]
+    a, b = [n for n in tree.nodes if getattr(n, "kind", "") == "point"]
+    return tree, a, b
+
+
+def test_keyframed_node_values_take_effect_at_each_frame(ext, example):
+    """A Point's radius and the tree's iso, keyed at frames 1 and 11 (Blender's smooth
+    interpolation: halfway at frame 6), compile to those values at each frame."""
+    comp = mod(ext, "blobtree_nodes.compile")
+    tree, a, b = two_spheres(example)
+    sc = bpy.context.scene
+    a.radius, tree.iso = 1.0, 0.5
+    a.keyframe_insert("radius", frame=1)
+    tree.keyframe_insert("iso", frame=1)
+    a.radius, tree.iso = 2.0, 0.3
+    a.keyframe_insert("radius", frame=11)
+    tree.keyframe_insert("iso", frame=11)
+    for frame, radius, iso in ((1, 1.0, 0.5), (6, 1.5, 0.4), (11, 2.0, 0.3), (3, None, None)):
+        sc.frame_set(frame)
+        model = comp.compile_tree(tree)
+        got = model.root.children[0].radius
+        if radius is None:                                      # between: strictly between the keys
+            assert 1.0 < got < 1.5 and 0.4 < model.iso < 0.5
+        else:
+            assert got == pytest.approx(radius, abs=1e-6) and model.iso == pytest.approx(iso, abs=1e-6)
+    assert a.radius == pytest.approx(model.root.children[0].radius)   # the node shows the frame's value
+
+
+def test_a_driven_value_follows_its_driver(ext, example):
+    comp = mod(ext, "blobtree_nodes.compile")
+    tree, a, b = two_spheres(example)
+    sc = bpy.context.scene
+    ctl = bpy.data.objects.new("Control", None)
+    sc.collection.objects.link(ctl)
+    fc = a.driver_add("radius")
+    var = fc.driver.variables.new()
+    var.name, var.type = "z", "TRANSFORMS"
+    var.targets[0].id = ctl
+    var.targets[0].transform_type = "LOC_Z"
+    fc.driver.expression = "0.5 + z * 0.25 + frame * 0"
+    ctl.location.z = 2.0
+    sc.frame_set(3)
+    assert comp.compile_tree(tree).root.children[0].radius == pytest.approx(1.0)
+    ctl.location.z = 4.0
+    ctl.keyframe_insert("location", index=2, frame=5)
+    sc.frame_set(5)
+    assert comp.compile_tree(tree).root.children[0].radius == pytest.approx(1.5)
+    fc.driver.expression = "__import__('os').getcwd()"            # no builtins: a named error, nothing run
+    anim = mod(ext, "blobtree_nodes.animation")
+    with pytest.raises(anim.DriverError, match="cannot evaluate"):
+        anim.apply(tree, 5, bpy.context.evaluated_depsgraph_get())
+
+
+def test_the_preview_follows_a_driving_empty_across_a_frame_change(ext, example):
+    changes = mod(ext, "blobtree_nodes.changes")
+    tree, a, b = two_spheres(example)
+    sc = bpy.context.scene
+    empty = bpy.data.objects.new("Driver", None)
+    sc.collection.objects.link(empty)
+    b.center_object = empty
+    empty.location = (0.0, 0.0, 0.0)
+    empty.keyframe_insert("location", frame=1)
+    empty.location = (3.0, 0.0, 0.0)
+    empty.keyframe_insert("location", frame=21)
+    sc.frame_set(1)
+    changes.run_due(float("inf"))
+    edits = changes.edits(tree)
+    xs1 = np.array([v.co.x for v in tree.preview_object.data.vertices])
+    sc.frame_set(21)
+    assert tree.name in changes.pending()                        # a move schedules the preview ...
+    assert changes.edits(tree) == edits                          # ... and is not an edit
+    changes.run_due(float("inf"))
+    xs21 = np.array([v.co.x for v in tree.preview_object.data.vertices])
+    assert xs21.max() > xs1.max() + 2.5                          # the sphere moved with the empty
+    empty.location.y = 1.0                                        # dragging it (no frame change)
+    bpy.context.view_layer.update()
+    assert tree.name in changes.pending()
