@@ -1,11 +1,12 @@
 """Operators (Blender layer), one per file, and the sidebar panels."""
 import bpy
 
-from . import (activate_tree, apply_preset, export_json, illustrate, import_json, menus, panels, rebuild_preview,
-               region_overlay, toggle_layer)
+from . import (activate_tree, apply_preset, bake, export_json, illustrate, import_json, menus, panels,
+               rebuild_preview, region_overlay, toggle_layer)
 
 classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes, *illustrate.classes,
-           *apply_preset.classes, *toggle_layer.classes, *activate_tree.classes, *panels.classes, *menus.classes)
+           *apply_preset.classes, *toggle_layer.classes, *activate_tree.classes, *bake.classes, *panels.classes,
+           *menus.classes)
 
 
 def register():

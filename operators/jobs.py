@@ -11,11 +11,16 @@ from ..agents import Region, Settings
 from ..blackboard.view import View
 
 
-def placement(tree):
+def _world(obj, depsgraph):
+    """An object's matrix in the scene (as ``depsgraph`` evaluates it, when given)."""
+    return (obj.evaluated_get(depsgraph) if depsgraph is not None else obj).matrix_world
+
+
+def placement(tree, depsgraph=None):
     """The matrix that places the tree's model in the scene: its preview object's (the
     artist moves the model by moving that object), else the identity."""
     obj = tree.preview_object
-    return obj.matrix_world.copy() if obj is not None else Matrix.Identity(4)
+    return _world(obj, depsgraph).copy() if obj is not None else Matrix.Identity(4)
 
 
 def to_model(matrix, point):
@@ -41,10 +46,10 @@ def attach(ink, tree):
     ink.matrix_basis = Matrix.Identity(4)
 
 
-def camera_eye(scene):
+def camera_eye(scene, depsgraph=None):
     """The scene camera's position, or None without a camera."""
     cam = scene.camera
-    return None if cam is None else np.array(cam.matrix_world.translation, float)
+    return None if cam is None else np.array(_world(cam, depsgraph).translation, float)
 
 
 ORTHO_DISTANCE = 100.0      # an orthographic view's eye: this many model radii back along its direction
@@ -65,18 +70,18 @@ def viewport_eye(context, radius):
     return centre + ORTHO_DISTANCE * radius * back / np.linalg.norm(back)
 
 
-def scene_light(scene):
+def scene_light(scene, depsgraph=None):
     """The scene's light for a job: (direction, None) towards a sun, else (None,
     position) of the first other light, else (None, None): the pipeline lights the
     model from the viewer's upper left."""
     lights = [o for o in scene.objects if o.type == "LIGHT" and not o.hide_render]
     suns = [o for o in lights if o.data.type == "SUN"]
     if suns:
-        d = np.array(suns[0].matrix_world.to_3x3() @ Vector((0.0, 0.0, 1.0)), float)
+        d = np.array(_world(suns[0], depsgraph).to_3x3() @ Vector((0.0, 0.0, 1.0)), float)
         if np.linalg.norm(d) > 0:
             return tuple(d), None
     if lights:
-        return None, tuple(np.array(lights[0].matrix_world.translation, float))
+        return None, tuple(np.array(_world(lights[0], depsgraph).translation, float))
     return None, None
 
 
@@ -103,16 +108,17 @@ def selection_region(context, tree, inverse):
     return Region(box=(pts.min(0), pts.max(0)))
 
 
-def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, inverse=None):
+def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, inverse=None, depsgraph=None):
     """A pipeline job for a model seen by the scene: ``eye`` where given (the
     viewport's), else the scene camera's, else (the pipeline's) a three-quarter view
     framing the model; eye and light taken into the model's coordinates by ``inverse``
-    (the inverse placement; default the identity). Nothing is compiled or sampled here:
-    that is the pipeline's work, on its worker."""
+    (the inverse placement; default the identity); objects as ``depsgraph`` evaluates
+    them, when given. Nothing is compiled or sampled here: that is the pipeline's work,
+    on its worker."""
     inverse = Matrix.Identity(4) if inverse is None else inverse
     if eye is None:
-        eye = camera_eye(scene)
-    light, light_at = scene_light(scene)
+        eye = camera_eye(scene, depsgraph)
+    light, light_at = scene_light(scene, depsgraph)
     eye = to_model(inverse, eye)
     return PL.Job(model, None if eye is None else View(eye=np.array(eye)), direction_to_model(inverse, light), style,
                   tuple(requests), seed, settings, seconds, to_model(inverse, light_at))

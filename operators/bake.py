@@ -1,0 +1,170 @@
+"""Bake: a tree illustrated at every frame of a range, each frame's drawing a Grease
+Pencil keyframe of its ink's layers (ordinary, editable Grease Pencil), through the
+one illustration pipeline. In the UI each frame's pipeline runs on a worker thread
+while the timer shows the progress; Esc keeps the frames finished so far. In
+background mode and from scripts it runs to the end in `execute`. The whole bake is
+one undo step; baking again replaces only the frames and layers it makes. A frame that
+fails (the tree does not compile then, an object it follows is gone) ends the bake
+with a message naming it, the frames before it kept.
+
+    bpy.ops.blobtree_ink.bake(tree_name="pear", frame_start=1, frame_end=24)
+"""
+import bpy
+
+from .. import pipeline as PL
+from ..blobtree_nodes.animation import DriverError
+from ..blobtree_nodes.compile import TreeError
+from . import frames as FR
+from .common import context_tree
+
+TICK = 0.05
+ERRORS = (TreeError, DriverError, FR.FrameError, PL.JobError, PL.NothingToDraw, LookupError, ValueError)
+last_bake = {}                # figures of the latest bake (module state, read by tests)
+
+
+class BLOBTREE_INK_OT_bake(bpy.types.Operator):
+    """Illustrate every frame of a range as Grease Pencil keyframes (Esc keeps the frames finished)"""
+    bl_idname = "blobtree_ink.bake"
+    bl_label = "Bake BlobTree Illustration"
+    bl_options = {"REGISTER", "UNDO"}
+
+    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
+    frame_start: bpy.props.IntProperty(name="Start", default=1, description="First frame to bake")
+    frame_end: bpy.props.IntProperty(name="End", default=250, description="Last frame to bake")
+
+    def _start(self, context):
+        self.tree_key = context_tree(context, self.tree_name).name
+        self.frames = list(FR.frame_range(self.frame_start, self.frame_end))
+        self.followed = FR.followed_objects(bpy.data.node_groups[self.tree_key])
+        self.scene = context.scene
+        self.frame_was = self.scene.frame_current
+        self.done = []
+        last_bake.clear()
+        last_bake.update(state="running", frames=[], tree=self.tree_key)
+
+    def _job(self, frame):
+        """Go to a frame and make its job (on the main thread: it reads the scene)."""
+        self.scene.frame_set(frame)
+        tree = bpy.data.node_groups.get(self.tree_key)
+        if tree is None:
+            raise FR.FrameError(f"frame {frame}: the BlobTree '{self.tree_key}' is gone")
+        FR.check_followed(tree, self.followed, frame)
+        try:
+            return FR.frame_job(tree, self.scene)
+        except (TreeError, DriverError) as e:
+            raise FR.FrameError(f"frame {frame}: {e}") from None
+
+    def _write(self, frame, result):
+        FR.write_frame(bpy.data.node_groups[self.tree_key], result, frame, baked=True)
+        self.done.append(frame)
+        last_bake["frames"] = list(self.done)
+
+    def _finish(self, state, error=None):
+        self.scene.frame_set(self.frame_was)
+        last_bake["state"] = state
+        if error is not None:
+            self.report({"ERROR"}, f"{error}; frames {self._span()} are baked" if self.done else str(error))
+        else:
+            self.report({"INFO"}, f"Bake {state}: frames {self._span()}" if self.done else f"Bake {state}: no frame")
+        return {"FINISHED"}               # what was baked is kept, as one undo step
+
+    def _span(self):
+        return f"{self.done[0]}-{self.done[-1]}" if len(self.done) > 1 else str(self.done[0])
+
+    # --- background: every frame in turn ------------------------------------------------
+    def execute(self, context):
+        try:
+            self._start(context)
+        except ERRORS as e:
+            self.report({"ERROR"}, str(e))
+            return {"CANCELLED"}
+        for frame in self.frames:
+            try:
+                job, _ = self._job(frame)
+                result = PL.Illustration(job).run()
+            except ERRORS as e:
+                return self._finish("failed", e if isinstance(e, FR.FrameError) else FR.FrameError(f"frame {frame}: {e}"))
+            self._write(frame, result)
+        return self._finish("done")
+
+    # --- the UI: each frame's pipeline on a worker, a timer showing the progress ---------
+    def invoke(self, context, event):
+        if bpy.app.background or context.window is None:
+            return self.execute(context)
+        try:
+            self._start(context)
+            self._next_frame()
+        except ERRORS as e:
+            self.report({"ERROR"}, str(e))
+            if getattr(self, "scene", None) is not None:
+                self.scene.frame_set(self.frame_was)
+            return {"CANCELLED"}
+        wm = context.window_manager
+        self.timer = wm.event_timer_add(TICK, window=context.window)
+        wm.progress_begin(0, 100)
+        wm.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def _next_frame(self):
+        self.frame = self.frames[len(self.done)]
+        job, _ = self._job(self.frame)
+        self.runner = PL.Runner(PL.Illustration(job)).start()
+
+    def modal(self, context, event):
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            self.runner.cancel()              # the frame under way is not kept
+            return self._end(context, "stopped")
+        if event.type != "TIMER" or not self.runner.finished:
+            if event.type == "TIMER":
+                self._progress(context)
+            return {"PASS_THROUGH"}
+        try:
+            self.runner.join()
+            self.runner.check()
+        except PL.RunnerError as e:
+            return self._end(context, "failed", e)
+        self._write(self.frame, self.runner.latest())
+        if len(self.done) == len(self.frames):
+            return self._end(context, "done")
+        try:
+            self._next_frame()
+        except ERRORS as e:
+            return self._end(context, "failed", e)
+        self._progress(context)
+        return {"RUNNING_MODAL"}
+
+    def _progress(self, context):
+        latest = self.runner.latest()
+        within = latest.progress.fraction if latest is not None else 0.0
+        share = (len(self.done) + within) / len(self.frames)
+        context.window_manager.progress_update(100.0 * share)
+        context.workspace.status_text_set(
+            f"BlobTree Ink bake: frame {self.frame} ({len(self.done) + 1} of {len(self.frames)}), "
+            f"{100 * share:.0f} %  Esc: stop and keep the frames baked")
+
+    def _end(self, context, state, error=None):
+        try:
+            self.runner.join()
+        except PL.RunnerError as e:
+            error = error or e
+        wm = context.window_manager
+        wm.event_timer_remove(self.timer)
+        wm.progress_end()
+        context.workspace.status_text_set(None)
+        return self._finish(state, error)
+
+    def cancel(self, context):
+        """The window closed or a file loaded: the frame under way is dropped (its worker
+        touches no Blender data; the UI waits for it only briefly)."""
+        self.runner.cancel()
+        try:
+            self.runner.join(2.0)
+        except PL.RunnerError as e:
+            print(f"BlobTree Ink: {e}; it ends on its own")
+        finally:
+            context.window_manager.event_timer_remove(self.timer)
+            context.window_manager.progress_end()
+            last_bake["state"] = "cancelled"
+
+
+classes = (BLOBTREE_INK_OT_bake,)

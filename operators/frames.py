@@ -1,0 +1,83 @@
+"""A tree illustrated at a frame, for the bake, the render handler and the command
+line's frames: the tree compiled as it is then (its animation, its followed objects),
+seen by the scene's camera and lit by its lights then, its requests the tree's look
+(the outlines and the style's strokes); the result written as that frame's drawing.
+Baked frames are listed on the ink object, so that a render illustrates the others."""
+import bpy
+
+from .. import pipeline as PL
+from ..blobtree_nodes import preview
+from ..blobtree_nodes.compile import compile_tree
+from ..blobtree_nodes.settings import style_of
+from ..grease_pencil.writer import ink_object, write
+from . import jobs
+from .common import ink_name
+
+BAKED = "blobtree_ink_baked"          # the ink object's custom property: the frames a bake made
+
+
+class FrameError(ValueError):
+    """A frame that cannot be illustrated; the message names the frame and what is wrong."""
+
+
+def look_requests(tree):
+    """The requests of a frame: the outlines, and the style's strokes when it has any."""
+    requests = [PL.Request(PL.OUTLINES)]
+    if style_of(tree.ink).stroke_switches():
+        requests.append(PL.Request(PL.PLACE_STROKES))
+    return tuple(requests)
+
+
+def frame_job(tree, scene, depsgraph=None):
+    """The job of the scene's current frame, and the placement of the model then."""
+    model = compile_tree(tree, depsgraph=depsgraph)
+    place = jobs.placement(tree, depsgraph)
+    ink = tree.ink
+    job = jobs.job(model, scene, style_of(ink), jobs.tree_settings(ink), look_requests(tree), ink.seed,
+                   inverse=place.inverted_safe(), depsgraph=depsgraph)
+    return job, place
+
+
+def write_frame(tree, result, frame, baked):
+    """Write a frame's result as that frame's drawing of the tree's ink; ``baked``: list
+    the frame as a bake's."""
+    obj = ink_object(ink_name(tree), preview.tree_collection(tree))
+    jobs.attach(obj, tree)
+    write(obj, result, frame=frame)
+    frames = set(obj.get(BAKED, []))
+    frames.add(frame) if baked else frames.discard(frame)
+    obj[BAKED] = sorted(frames)
+    return obj
+
+
+def baked_frames(tree):
+    obj = bpy.data.objects.get(ink_name(tree))
+    return set(obj.get(BAKED, [])) if obj is not None else set()
+
+
+def followed_objects(tree):
+    """(node name, property, object name) of every object the tree's nodes follow."""
+    out = []
+    for node in tree.nodes:
+        for key in node.bl_rna.properties.keys():
+            obj = getattr(node, key, None) if key.endswith("object") else None
+            if isinstance(obj, bpy.types.Object):
+                out.append((node.name, key, obj.name))
+    return out
+
+
+def check_followed(tree, followed, frame):
+    """FrameError when an object the tree followed at the start is gone."""
+    for node_name, key, obj_name in followed:
+        node = tree.nodes.get(node_name)
+        if node is None or getattr(node, key, None) is None or obj_name not in bpy.data.objects:
+            raise FrameError(f"frame {frame}: the object '{obj_name}' that node '{node_name}' follows was "
+                             "deleted")
+
+
+def frame_range(start, end):
+    """The frames from start to end (both included); FrameError for an empty or
+    reversed range."""
+    if end < start:
+        raise FrameError(f"the frame range {start}-{end} is empty (it ends before it starts)")
+    return range(start, end + 1)

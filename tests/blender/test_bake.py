@@ -1,0 +1,119 @@
+"""Bake: every frame of a range illustrated as that frame's Grease Pencil drawing, on
+that frame's surface; re-baking replaces only its own frames and layers; bad ranges,
+a tree broken at some frame and a deleted driving object are named, the frames before
+them kept."""
+import bpy
+import numpy as np
+import pytest
+from mathutils import Vector
+
+
+def mod(ext, name):
+    from importlib import import_module
+    return import_module(f"{ext.__name__}.{name}")
+
+
+def moving_spheres(example):
+    """Two spheres, the second following an Empty keyed from x=0 (frame 1) to x=2 (frame 5)."""
+    bpy.ops.blobtree_ink.import_json(filepath=example("two_spheres"), preview=True)
+    tree = bpy.data.node_groups["two_spheres"]
+    tree.ink.grid_resolution = 10
+    a, b = [n for n in tree.nodes if getattr(n, "kind", "") == "point"]
+    sc = bpy.context.scene
+    empty = bpy.data.objects.new("Driver", None)
+    sc.collection.objects.link(empty)
+    b.center_object = empty
+    for frame, x in ((1, 0.0), (5, 2.0)):
+        empty.location = (x, 0.0, 0.0)
+        empty.keyframe_insert("location", frame=frame)
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    sc.collection.objects.link(cam)
+    sc.camera = cam
+    cam.location = (0.8, -7.0, 0.5)
+    cam.rotation_euler = (Vector((0.8, 0.0, 0.0)) - cam.location).to_track_quat("-Z", "Y").to_euler()
+    sc.frame_set(1)
+    return tree, empty
+
+
+def drawing(name, frame):
+    obj = bpy.data.objects[f"{name} Ink"]
+    out = {}
+    for layer in obj.data.layers:
+        fr = [f for f in layer.frames if f.frame_number == frame]
+        out[layer.name] = [np.array([p.position for p in s.points]) for s in fr[0].drawing.strokes] if fr else None
+    return out
+
+
+def test_a_bake_draws_each_frame_on_that_frames_surface(ext, example):
+    comp = mod(ext, "blobtree_nodes.compile")
+    M = mod(ext, "model")
+    tree, empty = moving_spheres(example)
+    sc = bpy.context.scene
+    sc.frame_set(3)
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4) == {"FINISHED"}
+    assert sc.frame_current == 3                                   # where the artist was
+    bake = mod(ext, "operators.bake").last_bake
+    assert bake["state"] == "done" and bake["frames"] == [1, 2, 3, 4]
+    layer = bpy.data.objects["two_spheres Ink"].data.layers["Silhouette"]
+    assert sorted(f.frame_number for f in layer.frames) == [1, 2, 3, 4]
+    rights = []
+    for frame in (1, 2, 3, 4):
+        sc.frame_set(frame)
+        ev = M.Evaluator(comp.compile_tree(tree))
+        pts = np.concatenate(drawing("two_spheres", frame)["Silhouette"])
+        assert np.abs(ev.field(pts) - ev.iso).max() < 1e-6         # on that frame's surface
+        rights.append(pts[:, 0].max())
+    assert rights == sorted(rights) and rights[-1] > rights[0] + 1.0   # following the empty
+
+
+def test_baking_again_replaces_only_its_own_frames(ext, example):
+    tree, empty = moving_spheres(example)
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=3) == {"FINISHED"}
+    first = drawing("two_spheres", 1)["Silhouette"]
+    empty.animation_data.action = None                             # the empty stops moving: frames differ
+    empty.location = (2.0, 0.0, 0.0)
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=2, frame_end=3) == {"FINISHED"}
+    assert all(np.array_equal(x, y) for x, y in zip(drawing("two_spheres", 1)["Silhouette"], first))
+    frames = mod(ext, "operators.frames")
+    assert frames.baked_frames(tree) == {1, 2, 3}
+
+
+@pytest.mark.parametrize("start, end, message", [(5, 2, "the frame range 5-2 is empty")])
+def test_a_bad_range_is_named_and_nothing_is_drawn(ext, example, start, end, message):
+    moving_spheres(example)
+    with pytest.raises(RuntimeError, match=message):
+        bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=start, frame_end=end)
+    assert "two_spheres Ink" not in bpy.data.objects
+
+
+def test_a_tree_broken_at_a_frame_keeps_the_frames_before_it(ext, example):
+    tree, empty = moving_spheres(example)
+    a = [n for n in tree.nodes if getattr(n, "kind", "") == "point"][0]
+    a.radius = 1.0
+    a.keyframe_insert("radius", frame=1)
+    a.keyframe_insert("radius", frame=2)
+    a.radius = -1.0                                                # not a radius
+    a.keyframe_insert("radius", frame=3)
+    for fc in mod(ext, "blobtree_nodes.animation").channels(tree):
+        for k in fc.keyframe_points:
+            k.interpolation = "CONSTANT"
+    with pytest.raises(RuntimeError, match="frame 3: .*Influence Radius must be > 0"):
+        bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4)
+    assert mod(ext, "operators.frames").baked_frames(tree) == {1, 2}
+
+
+def test_a_deleted_driving_object_is_named(ext, example):
+    tree, empty = moving_spheres(example)
+    state = {}
+
+    def delete_at_frame_3(scene, *_):
+        if scene.frame_current == 3 and "Driver" in bpy.data.objects and not state:
+            state["deleted"] = True
+            bpy.data.objects.remove(bpy.data.objects["Driver"])
+    bpy.app.handlers.frame_change_pre.append(delete_at_frame_3)
+    try:
+        with pytest.raises(RuntimeError, match="frame 3: the object 'Driver' that node .* follows was deleted"):
+            bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4)
+    finally:
+        bpy.app.handlers.frame_change_pre.remove(delete_at_frame_3)
+    assert mod(ext, "operators.frames").baked_frames(tree) == {1, 2}
