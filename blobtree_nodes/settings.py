@@ -134,6 +134,10 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
                     "keeps white white, the preview mesh in white (off: the scene's own look is left as it is)")
     paper_restore: bpy.props.StringProperty(options={"HIDDEN"},
                                             description="What Paper replaced in the scene (restored when it is off)")
+    render_frames: bpy.props.BoolProperty(
+        name="Illustrate Rendered Frames", default=True,
+        description="When a render reaches a frame the ink has no drawing of (or one a render made), illustrate "
+                    "it first: the outlines and the style's strokes (a bake's or the artist's drawings are kept)")
     render_preview: bpy.props.BoolProperty(
         name="Render Preview Mesh", default=False, update=_render_preview,
         description="Render the preview mesh too (off: only the ink shows in renders)")

@@ -2,7 +2,7 @@
 import bpy
 
 from . import (activate_tree, apply_preset, bake, export_json, illustrate, import_json, menus, panels,
-               rebuild_preview, region_overlay, toggle_layer)
+               rebuild_preview, region_overlay, render_frames, toggle_layer)
 
 classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes, *illustrate.classes,
            *apply_preset.classes, *toggle_layer.classes, *activate_tree.classes, *bake.classes, *panels.classes,
@@ -16,9 +16,11 @@ def register():
     bpy.types.TOPBAR_MT_file_export.append(export_json.menu_func)
     region_overlay.register()
     menus.register()
+    render_frames.register()
 
 
 def unregister():
+    render_frames.unregister()
     menus.unregister()
     region_overlay.unregister()
     bpy.types.TOPBAR_MT_file_export.remove(export_json.menu_func)

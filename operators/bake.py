@@ -55,7 +55,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             raise FR.FrameError(f"frame {frame}: {e}") from None
 
     def _write(self, frame, result):
-        FR.write_frame(bpy.data.node_groups[self.tree_key], result, frame, baked=True)
+        FR.write_frame(bpy.data.node_groups[self.tree_key], result, frame)
         self.done.append(frame)
         last_bake["frames"] = list(self.done)
 

@@ -2,7 +2,9 @@
 line's frames: the tree compiled as it is then (its animation, its followed objects),
 seen by the scene's camera and lit by its lights then, its requests the tree's look
 (the outlines and the style's strokes); the result written as that frame's drawing.
-Baked frames are listed on the ink object, so that a render illustrates the others."""
+The frames a render drew are listed on the ink object: a later render draws them
+again (the model may have changed), while frames drawn otherwise (baked, or drawn by
+the artist at that frame) are kept."""
 import bpy
 
 from .. import pipeline as PL
@@ -10,10 +12,11 @@ from ..blobtree_nodes import preview
 from ..blobtree_nodes.compile import compile_tree
 from ..blobtree_nodes.settings import style_of
 from ..grease_pencil.writer import ink_object, write
+from ..strokes.data import LAYER_OF_KIND
 from . import jobs
 from .common import ink_name
 
-BAKED = "blobtree_ink_baked"          # the ink object's custom property: the frames a bake made
+RENDERED = "blobtree_ink_rendered"    # the ink object's custom property: the frames a render drew
 
 
 class FrameError(ValueError):
@@ -38,21 +41,30 @@ def frame_job(tree, scene, depsgraph=None):
     return job, place
 
 
-def write_frame(tree, result, frame, baked):
-    """Write a frame's result as that frame's drawing of the tree's ink; ``baked``: list
-    the frame as a bake's."""
+def write_frame(tree, result, frame, rendered=False):
+    """Write a frame's result as that frame's drawing of the tree's ink; ``rendered``:
+    list the frame as drawn by a render."""
     obj = ink_object(ink_name(tree), preview.tree_collection(tree))
     jobs.attach(obj, tree)
     write(obj, result, frame=frame)
-    frames = set(obj.get(BAKED, []))
-    frames.add(frame) if baked else frames.discard(frame)
-    obj[BAKED] = sorted(frames)
+    frames = set(obj.get(RENDERED, []))
+    frames.add(frame) if rendered else frames.discard(frame)
+    obj[RENDERED] = sorted(frames)
     return obj
 
 
-def baked_frames(tree):
+def drawn_frames(tree):
+    """The frames the tree's ink has a drawing of (a key on its outline layers)."""
     obj = bpy.data.objects.get(ink_name(tree))
-    return set(obj.get(BAKED, [])) if obj is not None else set()
+    if obj is None or obj.type != "GREASEPENCIL":
+        return set()
+    return {f.frame_number for layer in obj.data.layers if layer.name in LAYER_OF_KIND.values()
+            for f in layer.frames if len(f.drawing.strokes)}
+
+
+def rendered_frames(tree):
+    obj = bpy.data.objects.get(ink_name(tree))
+    return set(obj.get(RENDERED, [])) if obj is not None else set()
 
 
 def followed_objects(tree):

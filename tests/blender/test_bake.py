@@ -75,7 +75,7 @@ def test_baking_again_replaces_only_its_own_frames(ext, example):
     assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=2, frame_end=3) == {"FINISHED"}
     assert all(np.array_equal(x, y) for x, y in zip(drawing("two_spheres", 1)["Silhouette"], first))
     frames = mod(ext, "operators.frames")
-    assert frames.baked_frames(tree) == {1, 2, 3}
+    assert frames.drawn_frames(tree) == {1, 2, 3}
 
 
 @pytest.mark.parametrize("start, end, message", [(5, 2, "the frame range 5-2 is empty")])
@@ -99,7 +99,7 @@ def test_a_tree_broken_at_a_frame_keeps_the_frames_before_it(ext, example):
             k.interpolation = "CONSTANT"
     with pytest.raises(RuntimeError, match="frame 3: .*Influence Radius must be > 0"):
         bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4)
-    assert mod(ext, "operators.frames").baked_frames(tree) == {1, 2}
+    assert mod(ext, "operators.frames").drawn_frames(tree) == {1, 2}
 
 
 def test_a_deleted_driving_object_is_named(ext, example):
@@ -116,4 +116,40 @@ def test_a_deleted_driving_object_is_named(ext, example):
             bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4)
     finally:
         bpy.app.handlers.frame_change_pre.remove(delete_at_frame_3)
-    assert mod(ext, "operators.frames").baked_frames(tree) == {1, 2}
+    assert mod(ext, "operators.frames").drawn_frames(tree) == {1, 2}
+
+
+def test_an_animation_render_illustrates_each_frame_as_the_bake_does(ext, example, tmp_path):
+    """Render Animation (what `blender -b file.blend -a` runs) illustrates every frame the
+    ink has no drawing of before rendering it: the images differ from frame to frame, and
+    each frame's drawing is the one a bake makes; a frame the artist drew is kept."""
+    tree, empty = moving_spheres(example)
+    sc = bpy.context.scene
+    tree.ink.hatching, tree.ink.line_width = True, 6.0         # lines a few pixels wide at this small size
+    sc.frame_set(1)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="two_spheres", request="OUTLINES") == {"FINISHED"}
+    mine = drawing("two_spheres", 1)
+    sc.render.engine = "BLENDER_WORKBENCH"
+    sc.render.resolution_x = sc.render.resolution_y = 128
+    sc.frame_start, sc.frame_end = 1, 3
+    sc.render.filepath = str(tmp_path / "f_")
+    bpy.ops.render.render(animation=True)
+    R = mod(ext, "operators.render_frames")
+    assert [f for t, f in R.drawn if t == "two_spheres"][-2:] == [2, 3]
+    assert drawing("two_spheres", 1)["Silhouette"] is not None
+    assert all(np.array_equal(x, y) for x, y in zip(drawing("two_spheres", 1)["Silhouette"], mine["Silhouette"]))
+    rendered = {f: drawing("two_spheres", f) for f in (2, 3)}
+    assert rendered[2]["Hatching"] and rendered[3]["Hatching"]      # the look: outlines and the style's strokes
+    images = []
+    for f in (1, 2, 3):
+        img = bpy.data.images.load(str(tmp_path / f"f_{f:04d}.png"))
+        images.append(np.array(img.pixels[:]).reshape(128, 128, -1)[..., :3].mean(axis=2))
+    assert np.abs(images[1] - images[2]).max() > 0.5 and np.abs(images[0] - images[1]).max() > 0.5
+    # the same frames baked: the same drawings
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=2, frame_end=3) == {"FINISHED"}
+    for f in (2, 3):
+        baked = drawing("two_spheres", f)
+        for layer in ("Silhouette", "Hatching"):
+            assert len(baked[layer]) == len(rendered[f][layer])
+            assert all(np.allclose(x, y, atol=1e-6) for x, y in zip(baked[layer], rendered[f][layer]))
+    assert mod(ext, "operators.frames").rendered_frames(tree) == set()    # baked now: kept by the next render

@@ -1,0 +1,79 @@
+"""Rendering frames (`blender -b file.blend -a`, Render Animation, Render Image): each
+frame a render reaches is illustrated before it renders, through the pipeline, for
+every tree with an ink object and its *Illustrate Rendered Frames* on, unless the ink
+already has a drawing of that frame made otherwise (a bake, the artist's own run at
+that frame): those are used as they are. The frames a render drew are drawn again by
+the next render (the model may have changed since). The frame is illustrated as the
+render's depsgraph evaluates it (objects, animation), in the frame change handler the
+render calls before it renders the frame."""
+import traceback
+
+import bpy
+
+from .. import pipeline as PL
+from ..blobtree_nodes.animation import DriverError
+from ..blobtree_nodes.compile import TreeError
+from . import frames as FR
+from .common import blobtrees, ink_name
+
+_rendering = []                # a render is under way (between its init and its end)
+drawn = []                     # (tree, frame) drawn by renders in this session (for tests and the console)
+
+
+def illustrate(scene, depsgraph=None):
+    """Illustrate the scene's frame for every tree that wants it; returns the trees drawn."""
+    frame = scene.frame_current
+    done = []
+    for tree in blobtrees():
+        if not tree.ink.render_frames or bpy.data.objects.get(ink_name(tree)) is None:
+            continue
+        if frame in FR.drawn_frames(tree) and frame not in FR.rendered_frames(tree):
+            continue
+        try:
+            job, _ = FR.frame_job(tree, scene, depsgraph)
+            result = PL.Illustration(job).run()
+        except (TreeError, DriverError, PL.JobError, PL.NothingToDraw, ValueError) as e:
+            print(f"BlobTree Ink: frame {frame} of '{tree.name}' not illustrated: {e}")
+            continue
+        FR.write_frame(tree, result, frame, rendered=True)
+        drawn.append((tree.name, frame))
+        done.append(tree.name)
+    return done
+
+
+@bpy.app.handlers.persistent
+def _render_init(*_args):
+    _rendering[:] = [True]
+
+
+@bpy.app.handlers.persistent
+def _render_end(*_args):
+    _rendering.clear()
+
+
+@bpy.app.handlers.persistent
+def _frame_changed(scene, depsgraph=None):
+    if not _rendering:
+        return
+    try:
+        illustrate(scene, depsgraph)
+    except Exception:                   # a handler's failure must not stop the render: said, with its traceback
+        print(f"BlobTree Ink: frame {scene.frame_current} could not be illustrated:")
+        traceback.print_exc()
+
+
+HANDLERS = ((bpy.app.handlers.render_init, _render_init), (bpy.app.handlers.render_complete, _render_end),
+            (bpy.app.handlers.render_cancel, _render_end), (bpy.app.handlers.frame_change_post, _frame_changed))
+
+
+def register():
+    for lst, fn in HANDLERS:
+        if fn not in lst:
+            lst.append(fn)
+
+
+def unregister():
+    for lst, fn in HANDLERS:
+        if fn in lst:
+            lst.remove(fn)
+    _rendering.clear()
