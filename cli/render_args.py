@@ -1,5 +1,11 @@
 """The `render` subcommand's options, parsed into a plain :class:`RenderSpec` (pure: the
-Blender layer sets up the scene, camera and render and drives the pipeline with it)."""
+Blender layer sets up the scene, camera and render and drives the pipeline with it).
+
+    render MODEL.json --out DIR [options]            a model, framed in a three-quarter view
+    render SCENE.blend --tree NAME [--frames A-B] --out DIR
+                                                     a tree of a saved scene, as its camera sees
+                                                     it, with its own settings, frame by frame
+"""
 import math
 from dataclasses import dataclass
 
@@ -15,8 +21,10 @@ class CliError(Exception):
 
 @dataclass(frozen=True)
 class RenderSpec:
-    model: str                  # a blobtree-1 JSON file
+    model: str                  # a blobtree-1 JSON file, or a .blend scene
     out: str                    # the output directory
+    tree: str = None            # the BlobTree of a scene
+    frames: tuple = None        # (first, last) frames of a scene (None: its current frame)
     size: int = 1024
     grid: int = 20
     agents: int = Settings.agents
@@ -29,21 +37,25 @@ class RenderSpec:
 
 
 def add_parser(sub):
-    p = sub.add_parser("render", help="illustrate a model: DIR/NAME.png, .blend and .svg")
-    p.add_argument("model", help="blobtree-1 JSON file")
+    p = sub.add_parser("render", help="illustrate a model or a scene's tree: PNG, .blend and SVG")
+    p.add_argument("model", help="a blobtree-1 JSON file, or a .blend scene (with --tree)")
     p.add_argument("--out", required=True, help="output directory (created if its parent exists)")
-    p.add_argument("--size", type=int, default=1024, help="image size in pixels, 64-8192 (default 1024)")
-    p.add_argument("--grid", type=int, default=20, help="blackboard grid resolution, 8-128 (default 20)")
-    p.add_argument("--agents", type=int, default=Settings.agents,
+    p.add_argument("--tree", default=None, help="the BlobTree of a .blend scene (its own settings and style)")
+    p.add_argument("--frames", default=None, help="frames of a .blend scene, A-B (default: its current frame): "
+                   "DIR/NAME_####.png and .svg each")
+    p.add_argument("--size", type=int, default=None, help="image size in pixels, 64-8192 (default 1024; a "
+                   "scene: its own resolution)")
+    p.add_argument("--grid", type=int, default=None, help="blackboard grid resolution, 8-128 (default 20)")
+    p.add_argument("--agents", type=int, default=None,
                    help=f"number of agents, stepped together (default {Settings.agents})")
-    p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--azimuth", type=float, default=35.0, help="camera azimuth in degrees from the front")
-    p.add_argument("--elevation", type=float, default=25.0, help="camera elevation in degrees")
+    p.add_argument("--seed", type=int, default=None, help="seed of the random choices (default 0)")
+    p.add_argument("--azimuth", type=float, default=None, help="camera azimuth in degrees from the front (default 35)")
+    p.add_argument("--elevation", type=float, default=None, help="camera elevation in degrees (default 25)")
     p.add_argument("--light", default=None, help="direction towards the light, x,y,z (write --light=-1,0,1 "
                    "for a leading minus; default: the viewer's upper left)")
     p.add_argument("--seconds", type=float, default=None, help="time budget for the agents")
     g = p.add_argument_group("style")
-    g.add_argument("--style", default="outlines", choices=tuple(ST.STYLES),
+    g.add_argument("--style", default=None, choices=tuple(ST.STYLES),
                    help="a look of the papers' figures (default outlines); the options below change it")
     g.add_argument("--requests", default=None,
                    help="layers to draw, comma-separated, replacing the style's: " + ", ".join(ST.LAYER_SWITCHES))
@@ -116,8 +128,34 @@ def style_from_args(args):
         raise CliError(f"style: {e}") from None
 
 
+MODEL_ONLY = ("grid", "agents", "seed", "azimuth", "elevation", "light", "seconds", "style", "requests", "field", "no_cross",
+              "cross_field", "axis", "weights", "flock_size", "surface", "chain_step", "chain_angle",
+              "stipple_every", "line_width", "contrast")
+
+
+def frames_of(text):
+    """(first, last) from "A-B" or "A"; CliError for anything else or a reversed range."""
+    try:
+        a, _, b = text.partition("-") if not text.startswith("-") else ("", "", "")
+        first, last = int(a), int(b) if b else int(a)
+    except ValueError:
+        raise CliError(f"--frames must be A-B (two whole frame numbers, A first), got {text!r}") from None
+    if last < first:
+        raise CliError(f"--frames {text}: the range is empty (it ends before it starts)")
+    return first, last
+
+
 def spec_from_args(args):
     """The render's plain spec; CliError naming the first bad option."""
+    if args.model.lower().endswith(".blend"):
+        return _scene_spec(args)
+    if args.tree is not None or args.frames is not None:
+        raise CliError("--tree and --frames are for a .blend scene; a JSON model is one still")
+    defaults = dict(size=1024, grid=20, agents=Settings.agents, seed=0, azimuth=35.0, elevation=25.0,
+                    style="outlines")
+    for k, v in defaults.items():
+        if getattr(args, k) is None:
+            setattr(args, k, v)
     style = style_from_args(args)
     light = None if args.light is None else floats(args.light, "--light")
     if light is not None and not any(light):
@@ -138,3 +176,16 @@ def spec_from_args(args):
     return RenderSpec(model=args.model, out=args.out, size=args.size, grid=args.grid, agents=args.agents,
                       seed=args.seed, azimuth=args.azimuth, elevation=args.elevation, light=light,
                       seconds=args.seconds, style=style)
+
+
+def _scene_spec(args):
+    """A .blend scene's render: its tree (settings and style its own), its frames."""
+    if not args.tree:
+        raise CliError("a .blend scene needs --tree NAME: the BlobTree to illustrate")
+    given = [f"--{k.replace('_', '-')}" for k in MODEL_ONLY if getattr(args, k, None) not in (None, False)]
+    if given:
+        raise CliError(f"{', '.join(given)}: a scene's tree has its own settings and style (set them in Blender)")
+    if args.size is not None and not 64 <= args.size <= 8192:
+        raise CliError(f"--size must be from 64 to 8192 pixels, got {args.size}")
+    frames = None if args.frames is None else frames_of(args.frames)
+    return RenderSpec(model=args.model, out=args.out, size=args.size, tree=args.tree, frames=frames)

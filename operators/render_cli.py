@@ -1,21 +1,33 @@
-"""The `render` command's Blender side (its options are parsed by cli.render_args): a
-factory-empty scene with a camera framing the model and a sun towards the light, the
-job built from that scene as the operators build theirs (operators.jobs), the pipeline
-run to the end, the result written to a Grease Pencil object, then DIR/NAME.png, .svg
-and .blend (grease_pencil.render)."""
+"""The `render` command's Blender side (its options are parsed by cli.render_args).
+
+A JSON model: a factory-empty scene with a camera framing the model and a sun towards
+the light, the job built from that scene as the operators build theirs
+(operators.jobs), the pipeline run to the end, the result written to a Grease Pencil
+object, then DIR/NAME.png, .svg and .blend (grease_pencil.render).
+
+A .blend scene's tree: the scene opened as saved, then frame by frame the tree
+illustrated as the bake does (operators.frames: its camera, lights, animation and
+settings at that frame), each frame rendered to DIR/NAME_####.png and exported to
+DIR/NAME_####.svg, with a progress line; at the end the scene with its drawings saved
+as DIR/NAME.blend."""
 import os
 import re
 import time
 
 import bpy
 
+import numpy as np
+
 from .. import pipeline as PL
 from ..agents import Settings
+from ..blobtree_nodes.animation import DriverError
+from ..blobtree_nodes.compile import TreeError
 from ..cli.render_args import CliError
 from ..grease_pencil import render as OUT
 from ..grease_pencil import scene as S
 from ..grease_pencil.writer import ink_object, write
 from ..model import Evaluator, ModelError, load
+from . import frames as FR
 from . import jobs
 
 
@@ -34,6 +46,8 @@ def requests_of(style):
 def render(spec, log):
     """Illustrate spec.model and write the outputs; returns the exit status (CliError for
     what the user can mend)."""
+    if spec.model.lower().endswith(".blend"):
+        return render_scene(spec, log)
     try:
         model = load(spec.model)
     except ModelError as e:
@@ -85,4 +99,72 @@ def render(spec, log):
         raise CliError(f"Blender could not write the outputs: {e}") from None
     log("strokes: " + ", ".join(f"{k} {len(v)}" for k, v in result.strokes.layers.items() if v) +
         f"; wrote {', '.join(paths.values())} ({time.perf_counter() - t0:.1f} s)")
+    return 0
+
+
+def _out_dir(out_dir):
+    parent = os.path.dirname(os.path.abspath(out_dir))
+    if os.path.exists(out_dir) and not os.path.isdir(out_dir):
+        raise CliError(f"output directory {out_dir} is a file")
+    if not os.path.isdir(out_dir) and not os.path.isdir(parent):
+        raise CliError(f"output directory {out_dir} does not exist (nor does its parent)")
+
+
+def render_scene(spec, log):
+    """A scene's tree, frame by frame: DIR/NAME_####.png and .svg, then DIR/NAME.blend."""
+    if not os.path.isfile(spec.model):
+        raise CliError(f"{spec.model}: no such file")
+    _out_dir(spec.out)
+    try:
+        bpy.ops.wm.open_mainfile(filepath=spec.model, load_ui=False)
+    except RuntimeError as e:
+        raise CliError(f"{spec.model}: cannot be opened as a Blender file ({e})") from None
+    tree = bpy.data.node_groups.get(spec.tree)
+    if tree is None or tree.bl_idname != "BlobTreeInkNodeTree":
+        names = ", ".join(t.name for t in bpy.data.node_groups if t.bl_idname == "BlobTreeInkNodeTree") or "none"
+        raise CliError(f"{spec.model}: no BlobTree named '{spec.tree}' (its BlobTrees: {names})")
+    sc = bpy.context.scene
+    if sc.camera is None:
+        raise CliError(f"{spec.model}: the scene has no camera to illustrate and render from")
+    if spec.size is not None:
+        sc.render.resolution_x = sc.render.resolution_y = spec.size
+        sc.render.resolution_percentage = 100
+    sc.render.image_settings.file_format = "PNG"
+    if tree.ink.paper:
+        S.paper(sc)
+    first, last = spec.frames if spec.frames is not None else (sc.frame_current,) * 2
+    name = re.sub(r"[^A-Za-z0-9_.-]+", "_", tree.name) or "tree"
+    followed = FR.followed_objects(tree)
+    t0 = time.perf_counter()
+    try:
+        os.makedirs(spec.out, exist_ok=True)
+        for frame in FR.frame_range(first, last):
+            t = time.perf_counter()
+            sc.frame_set(frame)
+            tree = bpy.data.node_groups[spec.tree]
+            FR.check_followed(tree, followed, frame)
+            try:
+                job, _ = FR.frame_job(tree, sc)
+                result = PL.Illustration(job).run()
+            except (TreeError, DriverError, PL.JobError, PL.NothingToDraw) as e:
+                raise CliError(f"frame {frame}: {e}") from None
+            obj = FR.write_frame(tree, result, frame)
+            stem = os.path.join(spec.out, f"{name}_{frame:04d}")
+            OUT.atomic(stem + ".png", lambda tmp: OUT.render_png(sc, tmp))
+            dots = result.strokes.layers["Stipples"]
+            nudge = OUT.sideways(job.view.eye, np.mean([s.points[0] for s in dots], axis=0),
+                                 0.01 * float(dots[0].radius[0])) if dots else None
+            OUT.atomic(stem + ".svg", lambda tmp: OUT.export_svg(obj, tmp, dots, frame, nudge))
+            pr = result.progress
+            log(f"frame {frame}: {result.strokes.count()} strokes, {pr.outlines} outlines after {pr.iterations} "
+                f"iterations; wrote {stem}.png, .svg ({time.perf_counter() - t:.1f} s)")
+        blend = os.path.join(spec.out, f"{name}.blend")
+        OUT.atomic(blend, OUT.save_blend)
+    except FR.FrameError as e:
+        raise CliError(str(e)) from None
+    except OSError as e:
+        raise CliError(f"cannot write to {spec.out}: {e.strerror or e}") from None
+    except (OUT.OutputError, RuntimeError) as e:
+        raise CliError(f"Blender could not write the outputs: {e}") from None
+    log(f"frames {first}-{last}: wrote {blend} ({time.perf_counter() - t0:.1f} s in all)")
     return 0
