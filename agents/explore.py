@@ -97,7 +97,7 @@ class Explorers:
         P, C, N = ex.p, ex.centre, ex.n
         # wander (the smarticles' steering behaviour); containment: seek the voxel
         # centre when further than a voxel from it
-        D = st.wander(ex.d, N, self.rng, jitter=JITTER)
+        D = st.wander(ex.d, N, self.rng.normal(size=ex.d.shape), jitter=JITTER)
         away = np.linalg.norm(P - C, axis=1) > bb.h
         D[away] += 2.0 * np.linalg.norm(C[away] - P[away], axis=1)[:, None] / bb.h * st.seek(P[away], C[away])
         D = st.unit(st.tangent(D, N))

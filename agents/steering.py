@@ -18,11 +18,11 @@ def unit(v):
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), 1e-300)
 
 
-def wander(vel, normals, rng, jitter=0.5):
+def wander(vel, normals, noise, jitter=0.5):
     """Small random changes of heading, kept in the tangent plane (the sum of the
-    scaled velocity and a random displacement keeps the path from being erratic)."""
-    r = rng.normal(size=vel.shape) * jitter
-    return tangent(unit(vel) + r, normals)
+    scaled velocity and a random displacement keeps the path from being erratic);
+    ``noise``: a standard normal 3-vector per smarticle."""
+    return tangent(unit(vel) + jitter * noise, normals)
 
 
 def flow(field_dirs, vel):

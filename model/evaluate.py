@@ -9,7 +9,6 @@ import numpy as np
 
 from . import branches as BR
 from . import groups as G
-from . import warps as W
 from .groups import Group
 from .plan import compile_plan
 from .plan_nodes import Warp
@@ -173,15 +172,7 @@ _EMPTY_G = np.zeros((3, 0))
 
 
 def _warp(node, P, need_grad, prune, stats, ctx):
-    p = node.params
-    if node.kind == "affine":
-        Q, J = W.affine_map(P, p["A"], p["b"], need_grad)
-    elif node.kind == "twist":
-        Q, J = W.twist_map(P, p["rate"], need_grad)
-    elif node.kind == "taper":
-        Q, J = W.taper_map(P, p["rate"], need_grad)
-    else:
-        Q, J = W.bend_map(P, p["rate"], need_grad)
+    Q, J = node.to_child(P, need_grad)
     f, gq = evaluate(node.child, Q, need_grad, prune, stats, ctx)
     if not need_grad:
         return f, None
@@ -194,10 +185,10 @@ def _op(node, P, need_grad, prune, stats, ctx):
     n = P.shape[1]
     box = _box(P) if prune and n else None
     kids = [_sparse(c, P, need_grad, prune, stats, box, ctx) for c in node.children]
-    return _combine(node, kids, n, need_grad, ctx)
+    return combine(node, kids, n, need_grad, ctx)
 
 
-def _combine(node, kids, n, need_grad, ctx=None):
+def combine(node, kids, n, need_grad, ctx=None):
     """An operator's field and gradient from its children's (idx, f, g)."""
     op = node.op
     if op == "blend":
@@ -263,7 +254,7 @@ def _shape(t, P, kk, need_grad, stats, ctx=None):
         return G.evaluate_pairs(t.prm, t.reduce, t.n, P.take(pp, axis=1), idx, pp, v, need_grad, stats,
                                 ctx, t, t.m if t.dense(v) else None)
     kids = [(None, *_shape(c, P, kk, need_grad, stats, ctx)) for c in t.children]
-    return _combine(t, kids, v, need_grad, ctx)
+    return combine(t, kids, v, need_grad, ctx)
 
 
 def _dense(kid, n, need_grad):

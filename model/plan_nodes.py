@@ -38,6 +38,36 @@ class Warp:
     def __repr__(self):
         return f"Warp({self.kind})"
 
+    def to_child(self, P, need_jac):
+        """q = W^-1(p) at P (3, n), the point in the child's coordinates, and dq/dp
+        ((3, 3), or (3, 3, n); None without ``need_jac``)."""
+        p = self.params
+        if self.kind == "affine":
+            return W.affine_map(P, p["A"], p["b"], need_jac)
+        if self.kind == "twist":
+            return W.twist_map(P, p["rate"], need_jac)
+        if self.kind == "taper":
+            return W.taper_map(P, p["rate"], need_jac)
+        return W.bend_map(P, p["rate"], need_jac)
+
+    def from_child(self, Q):
+        """p = W(q) at Q (3, n): where points of the child land."""
+        p = self.params
+        if self.kind == "affine":
+            return p["L"] @ Q + p["t"][:, None]
+        if self.kind == "twist":
+            return W.twist_forward(Q, p["rate"])
+        if self.kind == "taper":
+            return W.taper_forward(Q, p["rate"])
+        return W.bend_forward(Q, p["rate"])
+
+    def area_scale(self):
+        """How the warp scales areas, where that is a constant (affine: |det L|^(2/3));
+        1 for the bending warps, which keep areas near their axis."""
+        if self.kind == "affine":
+            return abs(float(np.linalg.det(self.params["L"]))) ** (2.0 / 3.0)
+        return 1.0
+
 
 def _union_box(kids):
     return (np.min([k.lo for k in kids], axis=0), np.max([k.hi for k in kids], axis=0))

@@ -1,5 +1,6 @@
 """Warps and transforms: q = W^-1(p) on (3, n) batches (one row per coordinate) with the
-Jacobian dq/dp ((3, 3) when constant, else (3, 3, n)), and the forward image of a
+Jacobian dq/dp ((3, 3) when constant, else (3, 3, n)), the forward map p = W(q) (where a
+point of the child lands: marks placed on a primitive), and the forward image of a
 bounding box (where the warped child's support can land)."""
 import math
 
@@ -77,6 +78,14 @@ def twist_map(P, rate, need_jac):
     return Q, J
 
 
+def twist_forward(Q, rate):
+    """p = W(q): the inverse of :func:`twist_map` (a rotation by +rate*z about z)."""
+    x, y, z = Q
+    a = rate * z
+    c, s = np.cos(a), np.sin(a)
+    return np.stack([c * x - s * y, s * x + c * y, z])
+
+
 def twist_bounds(lo, hi, rate):
     if unbounded(lo, hi):
         return np.full(3, -INF), np.full(3, INF)
@@ -108,6 +117,13 @@ def taper_map(P, rate, need_jac):
     J[1, 2] = -P[1] * ds * inv * inv
     J[2, 2] = 1.0
     return Q, J
+
+
+def taper_forward(Q, rate):
+    """p = W(q): x and y scaled by max(1 + rate*z, TAPER_MIN) (z is kept, so the
+    scale is known from q)."""
+    s = np.maximum(1.0 + rate * Q[2], TAPER_MIN)
+    return np.stack([Q[0] * s, Q[1] * s, Q[2]])
 
 
 def taper_bounds(lo, hi, rate):
@@ -150,6 +166,17 @@ def bend_map(P, rate, need_jac):
     J[2, 0] = -sg * x * inv1
     J[2, 2] = sg * w * inv1
     return Q, J
+
+
+def bend_forward(Q, rate):
+    """p = W(q): the inverse of :func:`bend_map` (x along the arc of radius 1/rate)."""
+    if rate == 0:
+        return np.array(Q, float)
+    r = 1.0 / rate
+    sg = 1.0 if rate > 0 else -1.0
+    theta = Q[0] / r
+    rho = sg * (r - Q[2])
+    return np.stack([sg * rho * np.sin(theta), Q[1], r - sg * rho * np.cos(theta)])
 
 
 def bend_bounds(lo, hi, rate):

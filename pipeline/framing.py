@@ -1,13 +1,20 @@
 """Where a model is and how a view frames it (pure): its surface box's centre and
-radius, a three-quarter eye that frames it, and the one rule for the line width."""
+radius, a three-quarter eye that frames it; and the one rule for the line width and
+the strokes' unit of length, from the model's size: the square root of its surface's
+area (model.marks.surface_area), which moving or turning the model or a part of it does
+not change, so lines do not swell and strokes do not swim from frame to frame."""
 import math
 
 import numpy as np
 
 from ..blackboard.polygonise import surface_box
+from ..model.marks import surface_area
+from ..model.owners import owners
 
-LINE_RADIUS = 0.0025        # a line's radius, as a fraction of the radius of the model's surface box
-                            # (about 1.1 px at 1024 px in the command line's three-quarter view)
+LINE_RADIUS = 0.0014        # a line's radius, as a fraction of the model's size (about 1.1 px at 1024 px
+                            # in the command line's three-quarter view)
+STROKE_UNIT = 0.64          # the strokes' unit of length, as a fraction of the model's size over the
+                            # grid resolution (about a blackboard cell)
 LENS, SENSOR, MARGIN = 50.0, 36.0, 1.15     # the framing camera: focal length and sensor width (mm), margin
 
 
@@ -24,9 +31,21 @@ def bounds(ev):
     return 0.5 * (lo + hi), 0.5 * float(np.linalg.norm(hi - lo))
 
 
+def size(ev):
+    """The model's size: the square root of its surface's area (made once per evaluator)."""
+    if "size" not in ev.memo:
+        ev.memo["size"] = float(np.sqrt(surface_area(ev, owners(ev))))
+    return ev.memo["size"]
+
+
 def line_radius(ev):
     """The radius of a line of width 1 (strokes.style.Style.line_width scales it)."""
-    return LINE_RADIUS * bounds(ev)[1]
+    return LINE_RADIUS * size(ev)
+
+
+def stroke_unit(ev, resolution):
+    """The strokes' unit of length at a grid resolution (pipeline.layers)."""
+    return STROKE_UNIT * size(ev) / resolution
 
 
 def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, sensor=SENSOR, margin=MARGIN):

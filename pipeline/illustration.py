@@ -11,8 +11,9 @@ The stages, in order: initialisation (polygonisation, the blackboard, sub-cell
 features: the slow part of a big model), the agents' system iterations (while outlines
 are wanted), the visible outlines (hidden lines removed against the exact surface), then
 the style's stroke layers one by one (hatching, cross-hatching, strokes from the feature
-chains, short strokes, stipples), each in parts of its starts and on its own random
-stream from the job's seed, and a single stroke. :meth:`Illustration.stop` skips
+chains, short strokes, stipples), each in parts of its starts (the model's own marks,
+model.marks, whose choices are theirs: a layer does not depend on the layers drawn
+before it, nor a frame on the frames before it), and a single stroke. :meth:`Illustration.stop` skips
 what is left but the outlines of what was traced: a stopped illustration keeps every
 layer it finished, and the outlines found so far with their hidden lines removed.
 """
@@ -25,9 +26,10 @@ from numpy.random import default_rng    # numpy imports it lazily: here, not in 
 from ..agents import Session
 from ..blackboard.view import View
 from ..model import Evaluator
+from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from . import layers as LY
-from .framing import bounds, default_light, line_radius, three_quarter_eye
+from .framing import bounds, default_light, line_radius, stroke_unit, three_quarter_eye
 from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
 
 # each stage's share of a run, for the progress figure (sampling: the share of the
@@ -79,6 +81,7 @@ class Illustration:
         self.sampling = None           # the session's snapshot once its sampling ended
         self._live = None              # ... and while it runs (the fragments traced so far)
         self.line_radius = None
+        self.canvas = None             # what the layers are drawn with (pipeline.layers.Canvas)
         self.layers = {}               # layer name -> strokes finished
         self.outline_set = None        # the visible outlines (a StrokeSet), once that stage ran
         self.warnings = []
@@ -90,7 +93,8 @@ class Illustration:
         self.at = 0                    # the stage being worked on
         self.completed = []            # the stages done (a stop skips the rest)
         self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
-        self._rng = None                   # ... and its random generator
+        self._rng = None                   # ... and the chains' random generator
+        self._mark_sets = {}               # layer -> its marks (model.marks)
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -183,6 +187,8 @@ class Illustration:
         self.requests = tuple(replace(r, region=r.region.region(radius)) if isinstance(r.region, Around) else r
                               for r in j.requests)
         self.line_radius = line_radius(self.ev)
+        self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius,
+                                stroke_unit(self.ev, j.settings.resolution))
         self.session = Session(self.ev, View(eye=self.eye), j.settings)
         self._check_regions(self.session.snapshot(stitch=False).vertices)
         if j.wants_outlines():
@@ -224,7 +230,7 @@ class Illustration:
         return self._live
 
     def _outlines(self):
-        self.outline_set = LY.outlines(self.ev, self.sampling, self.eye, self.light, self.style, self.line_radius)
+        self.outline_set = LY.outlines(self.canvas, self.sampling, self.style)
         for name, strokes in self.outline_set.layers.items():
             if name in self.job.owned_layers():
                 self.layers[name] = strokes
@@ -234,16 +240,20 @@ class Illustration:
         """The region of the PLACE_STROKES request (None: the whole model, or none)."""
         return next((r.region for r in self.requests if r.kind == PLACE_STROKES), None)
 
-    def _stroke_layer(self, layer, parts, draw, **kw):
+    def _marks(self, layer):
+        """The marks a stroke layer starts from, made once per illustration."""
+        if layer not in self._mark_sets:
+            self._mark_sets[layer] = LY.marks_of(self.canvas, layer, owners(self.ev), self.job.seed)
+        return self._mark_sets[layer]
+
+    def _stroke_layer(self, layer, parts, draw, marks=None, **kw):
         """One part of a stroke layer per step (the parts listed at the layer's first
-        step); the layer's stage ends with its last part."""
+        step, from the marks of ``marks``); the layer's stage ends with its last part."""
         if self._parts is None:
-            self._parts, self._part = parts(self.sampling, self.style, self._region()), 0
-            # each layer its own random stream from the seed: a layer does not change
-            # when another is drawn before it, or not at all
-            self._rng = default_rng((self.job.seed, STROKE_STAGES.index(self.stage)))
-        strokes = draw(self.ev, self.sampling, self.eye, self.light, self.style, self._rng, self.line_radius,
-                       self._region(), self._parts[self._part], **kw)
+            self._parts = parts(self.canvas, self.sampling, self._marks(marks) if marks else None, self.style,
+                                self._region())
+            self._part = 0
+        strokes = draw(self.canvas, self.sampling, self.style, self._region(), self._parts[self._part], **kw)
         self.layers.setdefault(layer, []).extend(strokes)
         self._part += 1
         if self._part == len(self._parts):
@@ -251,24 +261,26 @@ class Illustration:
             self._next()
 
     def _hatching(self):
-        self._stroke_layer(STYLE_LAYERS["hatching"], LY.hatching_parts, LY.hatching)
+        self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching")
 
     def _cross_hatching(self):
-        self._stroke_layer(STYLE_LAYERS["hatching"], LY.hatching_parts, LY.hatching, cross=True)
+        self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching", cross=True)
 
     def _chains(self):
-        self._stroke_layer(STYLE_LAYERS["chains"], LY.chains_parts, LY.chains)
+        if self._parts is None:
+            # the outlines' points are no marks: the chains' choices are the job's seed's
+            self._rng = default_rng((self.job.seed, STROKE_STAGES.index("chains")))
+        self._stroke_layer(STYLE_LAYERS["chains"], LY.chains_parts, LY.chains, rng=self._rng)
 
     def _short(self):
-        self._stroke_layer(STYLE_LAYERS["short"], LY.short_parts, LY.short)
+        self._stroke_layer(STYLE_LAYERS["short"], LY.mark_parts, LY.short, "short")
 
     def _stipples(self):
-        self._stroke_layer(STYLE_LAYERS["stipples"], LY.stipples_parts, LY.stipples)
+        self._stroke_layer(STYLE_LAYERS["stipples"], LY.mark_parts, LY.stipples, "stipples")
 
     def _single(self):
         cursor = [r.cursor for r in self.requests if r.kind == SINGLE_STROKE][0]
-        stroke = LY.single_stroke(self.ev, self.sampling, self.eye, self.style, self.line_radius, cursor,
-                                  self.job.seed)
+        stroke = LY.single_stroke(self.canvas, self.style, cursor, self.job.seed)
         if stroke is None:
             self.warnings.append("the start point is not near the surface: no stroke")
         self.layers.setdefault(SINGLE_LAYER, []).extend([stroke] if stroke is not None else [])
@@ -315,7 +327,7 @@ class Illustration:
         current = self._current()
         if self.outline_set is None and current is not None and "outlines" in self.stages:
             # still tracing: the outlines found so far as they are (hidden lines go at the end)
-            r = LY.radius(self.style, self.line_radius)
+            r = self.canvas.radius(self.style)
             for name, strokes in StrokeSet.from_outlines(current.outlines, r).layers.items():
                 if name in owned:
                     out.layers[name] = strokes

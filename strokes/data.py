@@ -15,6 +15,7 @@ class Stroke:
     opacity: np.ndarray              # (k,) 0..1
     cyclic: bool = False
     dots: bool = False               # a stipple: drawn with the DOTS material
+    mark: int = None                 # the key of the mark it was drawn from (model.marks), if any
 
 
 @dataclass

@@ -1,7 +1,11 @@
 """Stroke layers on top of the outlines (MASSRIS section 7, Smarticles section 7):
 hatching and cross-hatching along a flow field, strokes started from feature chains,
-short general strokes centred on polygon centres, and stipples from the wander
-behaviour's path points.
+short general strokes, and stipples from the wander behaviour's path points.
+
+Hatching, short strokes and stipples start at marks (model.marks): points that belong
+to the model's primitives, so a frame's strokes follow the parts they are on. Whatever
+is random about a mark's stroke (whether a mark in the penumbra gets one, a flock's
+places, the wander) is drawn from its key (model.keyed), not from a run's generator.
 
 Lighting: with a light direction L, a point is lit by max(0, n.L). Strokes go where
 the surface is shaded: below ``lower`` always, above ``upper`` never, and between them
@@ -13,10 +17,18 @@ import numpy as np
 
 from . import smarticles as sm
 from ..agents import steering as st
+from ..model import keyed
+from ..model.curvature import curvature
 from .data import Stroke
 from .visibility import split_visible_many, visible
 
 FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
+ISOTROPIC = 0.05        # principal directions count where (k1 - k2) exceeds this share of |k1| + |k2|
+# salts of what is decided about a mark (model.keyed)
+SHADE = 1               # whether a mark in the penumbra gets a stroke
+FLOCK = 2               # whether a mark spawns a flock
+FLOCK_PLACE = 3         # where a flock's member starts
+BACKWARDS = 4           # the smarticle of a short stroke's other half
 
 
 def lighting(normals, light_dir):
@@ -25,10 +37,11 @@ def lighting(normals, light_dir):
     return np.maximum(0.0, np.asarray(normals, float) @ L)
 
 
-def chosen_for_shade(lit, lower, upper, rng):
-    """Which points get a stroke: all below lower, none above upper, random between."""
+def chosen_for_shade(lit, lower, upper, u):
+    """Which points get a stroke: all below lower, none above upper, between them those
+    whose own uniform number ``u`` (a mark's, model.keyed) is below the shade's share."""
     p = np.clip((upper - lit) / max(upper - lower, 1e-9), 0.0, 1.0)
-    return rng.random(len(lit)) < p
+    return np.asarray(u) < p
 
 
 def tone(shade, upper, radius, contrast=1.0):
@@ -45,9 +58,16 @@ def direction_field(kind, axis=None, eye=None):
     axis projected on the surface), "level" (the level lines of that axis: across it on
     the surface, horizontal for the vertical axis), "contour" (tangent and across the
     view direction), or "straight" (keep the current heading: the path of the initial
-    direction)."""
+    direction). Where the surface bends alike every way (:func:`isotropic`) the
+    principal directions are noise: a smarticle keeps its heading there."""
     if kind in ("dir1", "dir2"):
-        return lambda P, N, c: np.asarray(c[kind])
+        def principal(P, N, c):
+            d = np.array(c[kind], float)
+            v = c["velocity"]
+            keep = isotropic(c) & (np.linalg.norm(v, axis=1) > 0)      # no direction of its own: go on
+            d[keep] = v[keep]
+            return d
+        return principal
     if kind in ("axis", "level"):
         if axis is None or not np.all(np.isfinite(axis)) or np.linalg.norm(axis) == 0:
             raise ValueError(f"the {kind} flow field needs a finite non-zero axis, got {axis!r}")
@@ -63,58 +83,66 @@ def direction_field(kind, axis=None, eye=None):
     raise ValueError(f"unknown flow field {kind!r}; one of {', '.join(FIELDS)}")
 
 
-def spawn_flocks(starts, normals, headings, size, spacing, rng):
+def spawn_flocks(starts, normals, headings, size, spacing, keys):
     """Flocks spawned around initial positions (Smarticles 4): ``size`` members per
-    start, side by side across the heading at ``spacing`` with a small random
-    displacement. Returns positions, headings and flock ids."""
+    start, side by side across the heading at ``spacing``, each displaced a little by
+    its own key (model.keyed) in the frame of the heading. Returns positions, headings,
+    flock ids and the members' keys."""
     starts, normals = np.asarray(starts, float), np.asarray(normals, float)
+    keys = np.asarray(keys, np.uint64)
     if size <= 1 or len(starts) == 0:
-        return starts, headings, np.arange(len(starts))
+        return starts, headings, np.arange(len(starts)), keys
     side = st.unit(np.cross(normals, headings))
     offs = (np.arange(size) - 0.5 * (size - 1)) * spacing
     P = starts[:, None, :] + offs[None, :, None] * side[:, None, :]
-    P = P + 0.25 * spacing * rng.normal(size=P.shape)
+    members = keyed.combine(keys[:, None], np.arange(size)[None, :]).reshape(-1)
+    z = keyed.normal(members, FLOCK_PLACE, count=3).reshape(len(starts), size, 3)
+    frame = np.stack([headings, side, normals], axis=1)             # (n, 3 axes, 3)
+    P = P + 0.25 * spacing * np.einsum("nma,nak->nmk", z, frame)
     H = np.repeat(headings, size, axis=0)
-    return P.reshape(-1, 3), H, np.repeat(np.arange(len(starts)), size)
+    return P.reshape(-1, 3), H, np.repeat(np.arange(len(starts)), size), members
 
 
-def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0, min_points=2):
+def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0, min_points=2, keys=None):
     """Smarticle paths as strokes: cut where they leave the shade (or the region),
-    split where they go out of sight (one batched visibility test), toned by the shade."""
+    split where they go out of sight (one batched visibility test), toned by the shade;
+    each stroke keeps its smarticle's key (``keys``) as its mark."""
     kept = []
-    for path, nrm in zip(res.paths, res.normals):
+    for i, (path, nrm) in enumerate(zip(res.paths, res.normals)):
         shade = lighting(nrm, light)
         inside = shade <= upper
         if region is not None:
             inside &= region.contains(path)
         cut = len(path) if inside.all() else int(np.argmin(inside))    # shortened where it leaves the shade
         if cut >= min_points:
-            kept.append((path[:cut], nrm[:cut], shade[:cut]))
+            kept.append((path[:cut], nrm[:cut], shade[:cut], None if keys is None else int(keys[i])))
     runs = split_visible_many(ev, [k[0] for k in kept], eye, [k[1] for k in kept], min_points)
     out = []
-    for (path, nrm, shade), rr in zip(kept, runs):
+    for (path, nrm, shade, key), rr in zip(kept, runs):
         for a, b in rr:
             r, o = tone(shade[a:b], upper, radius, contrast)
-            out.append(Stroke(path[a:b], r, o))
+            out.append(Stroke(path[a:b], r, o, mark=key))
     return out
 
 
-def hatching(ev, starts, start_normals, eye, light, step, rng, field="dir1", axis=(0, 0, 1), lower=0.25,
-             upper=0.6, weights=None, rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0):
-    """Hatching strokes from the start points that fall in shade, following a flow
-    field; with ``flock_size`` > 1 each chosen start spawns a flock (every
-    flock_size-th chosen start, so the density stays alike)."""
-    lit = lighting(start_normals, light)
-    pick = np.flatnonzero(chosen_for_shade(lit, lower, upper, rng))[::max(1, flock_size)]
-    P, N = np.asarray(starts, float)[pick], np.asarray(start_normals, float)[pick]
+def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.25, upper=0.6, weights=None,
+             rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0):
+    """Hatching strokes from the marks (model.marks) that fall in shade, following a
+    flow field, each heading the way its mark's reference direction says; with
+    ``flock_size`` > 1 one mark in flock_size (by its key) spawns a flock, so the
+    density stays alike. ``salt``: another layer's choices (cross-hatching)."""
+    lit = lighting(marks.normals, light)
+    pick = chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))
+    if flock_size > 1:
+        pick &= keyed.uniform(marks.keys, salt, FLOCK) * flock_size < 1.0
+    m = marks.take(pick)
     rules = rules or sm.StrokeRules(max_steps=10, region=region)
     flow = direction_field(field, axis, eye)
-    H = _initial_flow(ev, P, flow) if (field == "straight" or flock_size > 1) and len(P) else None
-    flock = np.arange(len(P))
-    if flock_size > 1 and len(P):
-        P, H, flock = spawn_flocks(P, N, H, flock_size, 1.5 * step, rng)
-    res = sm.run(ev, P, flow, step, weights or sm.PRESETS["hatching"], rules, rng, flock=flock, headings=H)
-    return shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast)
+    H = headings(ev, m.points, field, m.ref, axis, eye)
+    own = m.keys if salt == 0 else keyed.combine(m.keys, salt)      # cross-hatching's strokes are others
+    P, H, flock, keys = spawn_flocks(m.points, m.normals, H, flock_size, 1.5 * step, own)
+    res = sm.run(ev, P, flow, step, weights or sm.PRESETS["hatching"], rules, keys, flock=flock, headings=H)
+    return shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
 
 
 def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, field="straight", axis=(0, 0, 1),
@@ -124,7 +152,8 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
     of each outline starts a smarticle heading at ``angle`` degrees to the chain,
     towards the viewer for silhouettes (the visible side) and to both sides of a
     crease; strokes end at ``max_distance`` from the feature lines (default 4 steps): the
-    points of ``features`` (default: these outlines' own)."""
+    points of ``features`` (default: these outlines' own). The outlines' points are no
+    marks: the choices in the penumbra and the smarticles' keys come from ``rng``."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the chain density step must be at least 1, got {every}")
@@ -154,7 +183,7 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
     if not P:
         return []
     P, N, H = np.concatenate(P), np.concatenate(N), np.concatenate(H)
-    pick = chosen_for_shade(lighting(N, light), lower, upper, rng)
+    pick = chosen_for_shade(lighting(N, light), lower, upper, rng.random(len(N)))
     P, H = P[pick], H[pick]
     # start just off the line, on the chosen side, so the first step is not on the crease itself
     P = P + 0.5 * step * H
@@ -162,66 +191,90 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
     rules = sm.StrokeRules(max_steps=max_steps, stop_on_curvature_sign=False, max_normal_angle=np.radians(75),
                            feature_points=np.concatenate(feat) if features is None else np.asarray(features, float),
                            max_feature_distance=dist, region=region)
-    res = sm.run(ev, P, direction_field(field, axis, eye), step, weights or sm.PRESETS["hatching"], rules, rng,
+    keys = rng.integers(0, 1 << 63, len(P), dtype=np.int64).astype(np.uint64)
+    res = sm.run(ev, P, direction_field(field, axis, eye), step, weights or sm.PRESETS["hatching"], rules, keys,
                  headings=H)
     return shaded_strokes(ev, res, eye, light, upper, radius, region, contrast)
 
 
-def short_strokes(ev, centres, centre_normals, eye, light, step, rng, field="dir1", axis=(0, 0, 1), steps=3,
-                  lower=0.3, upper=0.65, weights=None, radius=0.003, region=None, contrast=1.0):
-    """Short general strokes centred on polygon centres (MASSRIS 7): from each chosen
-    centre a smarticle goes ``steps`` steps each way along the flow field; the two
-    halves make one stroke through the centre."""
-    lit = lighting(centre_normals, light)
-    C = np.asarray(centres, float)[chosen_for_shade(lit, lower, upper, rng)]
-    if len(C) == 0:
+def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), steps=3, lower=0.3, upper=0.65,
+                  weights=None, radius=0.003, region=None, contrast=1.0):
+    """Short general strokes centred on the marks (MASSRIS 7 centres them on polygons):
+    from each chosen mark a smarticle goes ``steps`` steps each way along the flow
+    field; the two halves make one stroke through the mark."""
+    lit = lighting(marks.normals, light)
+    m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
+    if len(m) == 0:
         return []
     flow = direction_field(field, axis, eye)
     rules = sm.StrokeRules(max_steps=steps, stop_on_curvature_sign=False, max_normal_angle=np.radians(60),
                            region=region)
     w = weights or sm.PRESETS["hatching"]
-    H = _initial_flow(ev, C, flow)
-    fwd = sm.run(ev, C, flow, step, w, rules, rng, headings=H)
-    bwd = sm.run(ev, C, flow, step, w, rules, rng, headings=-H)
+    H = headings(ev, m.points, field, m.ref, axis, eye)
+    fwd = sm.run(ev, m.points, flow, step, w, rules, m.keys, headings=H)
+    bwd = sm.run(ev, m.points, flow, step, w, rules, keyed.combine(m.keys, BACKWARDS), headings=-H)
     whole = sm.Run()
     for pf, nf, pb, nb in zip(fwd.paths, fwd.normals, bwd.paths, bwd.normals):
         whole.paths.append(np.vstack([pb[:0:-1], pf]))
         whole.normals.append(np.vstack([nb[:0:-1], nf]))
-    return shaded_strokes(ev, whole, eye, light, upper, radius, region, contrast, min_points=3)
+    return shaded_strokes(ev, whole, eye, light, upper, radius, region, contrast, min_points=3, keys=m.keys)
 
 
-def stipples(ev, starts, start_normals, eye, light_dir, step, rng, every=3, steps=30, lower=0.2, upper=0.55,
-             radius=0.004, region=None, contrast=1.0):
-    """One-point strokes at every ``every``-th step of wandering smarticles in shade."""
+def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
+             region=None, contrast=1.0):
+    """One-point strokes at every ``every``-th step of wandering smarticles started at
+    the marks in shade; each dot's mark is its smarticle's key and step."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")
-    lit = lighting(start_normals, light_dir)
-    starts = np.asarray(starts)[chosen_for_shade(lit, lower, upper, rng)]
+    lit = lighting(marks.normals, light_dir)
+    m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
     rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False,
                            region=region)
-    res = sm.run(ev, starts, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, rng)
+    res = sm.run(ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, m.keys,
+                 headings=headings(ev, m.points, "dir1", m.ref))
     if not res.paths:
         return []
     D = np.concatenate([p[::every] for p in res.paths])
     Nn = np.concatenate([n[::every] for n in res.normals])
+    K = np.concatenate([keyed.combine(np.full(len(range(0, len(p), every)), k, np.uint64),
+                                      np.arange(0, len(p), every)) for p, k in zip(res.paths, m.keys)])
     shade = lighting(Nn, light_dir)
     keep = shade <= upper
     if region is not None:
         keep &= region.contains(D)
-    D, Nn, shade = D[keep], Nn[keep], shade[keep]
+    D, Nn, shade, K = D[keep], Nn[keep], shade[keep], K[keep]
     vis = visible(ev, D, eye, Nn)
     r, o = tone(shade[vis], upper, radius, contrast)
-    return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True) for i, p in enumerate(D[vis])]
+    return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True, mark=int(k))
+            for i, (p, k) in enumerate(zip(D[vis], K[vis]))]
 
 
-def _initial_flow(ev, P, flow):
-    """The flow field's direction at points (for headings and flock spawning)."""
-    from ..model.curvature import curvature
+def isotropic(c):
+    """Where the principal directions mean nothing: the principal curvatures differ by
+    less than ISOTROPIC of their size (near umbilics, on flat parts), or are not known."""
+    k1, k2 = np.asarray(c["k1"]), np.asarray(c["k2"])
+    return ~(np.abs(k1 - k2) > ISOTROPIC * (np.abs(k1) + np.abs(k2)))
+
+
+def headings(ev, P, kind, ref, axis=None, eye=None):
+    """The flow field's direction at points, each turned to agree with its reference
+    direction (``ref``: a mark's, which turns with its primitive), so a stroke sets off
+    the same way in every frame; where a field that follows the principal directions has
+    none (:func:`isotropic`), along the reference direction itself."""
+    if len(P) == 0:
+        return np.zeros((0, 3))
     f, g = ev.field_grad(P)
     c = curvature(ev, P, g)
     c["velocity"] = np.zeros_like(P)
-    d = flow(P, c["normal"], c)
-    if not np.any(np.linalg.norm(d, axis=1) > 0):       # "straight" has no field of its own
-        d = c["dir1"]
-    return st.unit(st.tangent(d, c["normal"]))
+    N = c["normal"]
+    H = direction_field(kind, axis, eye)(P, N, c)
+    flat = ~(np.linalg.norm(H, axis=1) > 0)                 # "straight" has no field of its own
+    H[flat] = c["dir1"][flat]
+    if kind in ("dir1", "dir2", "straight"):
+        weak = isotropic(c)
+        H[weak] = ref[weak]
+    H = st.unit(st.tangent(H, N))
+    s = np.sign(np.einsum("ij,ij->i", H, ref))
+    s[s == 0] = 1.0
+    return H * s[:, None]

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model import keyed
 from ..model.curvature import curvature
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
@@ -45,31 +46,34 @@ class Run:
     reasons: list = field(default_factory=list)
 
 
-def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, separation_radius=None,
+def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, separation_radius=None,
         headings=None, target=None, path=None):
     """Trace one path per start. ``direction_field(P, normals, curv) -> (n,3)`` gives
     the flow field (e.g. a principal direction; ``curv["velocity"]`` is the current
-    heading, for fields that keep it). ``headings`` (n,3) are the initial headings (by
-    default the flow field at the start). Behaviours with targets: "seek" steers to
-    ``target``, "path" follows the polyline ``path``, "containment" steers back into
-    ``rules.region`` before leaving it."""
+    heading, for fields that keep it). ``keys`` (n,) are the smarticles' own keys
+    (model.keyed): their random wander is theirs, whatever else runs with them.
+    ``headings`` (n,3) are the initial headings (by default the flow field at the
+    start). Behaviours with targets: "seek" steers to ``target``, "path" follows the
+    polyline ``path``, "containment" steers back into ``rules.region`` before leaving it."""
     P = np.array(starts, float)
     n = len(P)
     out = Run()
     if n == 0:
         return out
+    keys = np.asarray(keys, np.uint64)
+    if keys.shape != (n,):
+        raise ValueError(f"one key per start: {n} starts, keys of shape {keys.shape}")
     flock = np.zeros(n, int) if flock is None else np.asarray(flock)
     P, f, g = project(ev, P, START_STEPS)
     N = -st.unit(g)
     c = curvature(ev, P, g)
     c["velocity"] = np.zeros_like(P)
-    if headings is None:
-        V = np.array(direction_field(P, N, c), float)
-        still = np.linalg.norm(V, axis=1) == 0          # a field that only keeps the heading: start along dir1
-        V[still] = c["dir1"][still]
-    else:
-        V = np.array(headings, float).reshape(n, 3)
-    V = st.unit(st.tangent(V + 1e-9 * rng.normal(size=V.shape), N))
+    V = np.array(direction_field(P, N, c) if headings is None else headings, float).reshape(n, 3)
+    T = st.tangent(V, N)
+    # no heading in the tangent plane (a field that only keeps the heading has none at the start): dir1
+    flat = np.linalg.norm(T, axis=1) <= 1e-9 * np.linalg.norm(V, axis=1)
+    T[flat] = c["dir1"][flat]
+    V = st.unit(T)
     start_n = N.copy()
     start_sign = np.sign(c["mean"])
     alive = on_surface(f, ev.iso, NEAR_SURFACE)        # a start that did not reach the surface draws nothing
@@ -83,10 +87,11 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
         if len(idx) == 0:
             break
         p, v, nn = P[idx], V[idx], N[idx]
-        cur = {"mean": c["mean"][idx], "dir1": c["dir1"][idx], "dir2": c["dir2"][idx], "normal": nn,
-               "velocity": v}
-        forces = {"flow": st.flow(direction_field(p, nn, cur), v),
-                  "wander": st.wander(v, nn, rng)}
+        cur = {key: c[key][idx] for key in CARRIED}
+        cur.update(normal=nn, velocity=v)
+        forces = {"flow": st.flow(direction_field(p, nn, cur), v)}
+        if weights.get("wander", 0):
+            forces["wander"] = st.wander(v, nn, _noise(keys[idx], k, cur["dir1"], nn, v))
         if weights.get("seek", 0):
             if target is None:
                 raise ValueError("the seek behaviour needs a target")
@@ -142,13 +147,27 @@ def run(ev, starts, direction_field, step, weights, rules, rng, flock=None, sepa
         go = idx[~stop]
         P[go], V[go], N[go] = newp[~stop], st.tangent(newv[~stop], nq[~stop]), nq[~stop]
         lengths[go] += seg[~stop]
-        for key in ("mean", "dir1", "dir2"):
+        for key in CARRIED:
             c[key][go] = cq[key][~stop]
     for i in range(n):
         out.paths.append(np.array(paths[i]).reshape(-1, 3))
         out.normals.append(np.array(norms[i]).reshape(-1, 3))
         out.reasons.append(reasons[i] or "steps")
     return out
+
+
+WANDER = 7              # the salt of the wander's noise (model.keyed)
+CARRIED = ("mean", "k1", "k2", "dir1", "dir2")      # the curvature a flow field may read
+
+
+def _noise(keys, k, dir1, normals, vel):
+    """Each smarticle's standard normal 3-vector for step k, in its own frame (the
+    principal direction along its heading, the other one, the normal): the same
+    relative to the surface wherever the surface is moved or turned."""
+    z = keyed.normal(keys, WANDER, k, count=3)
+    d1 = st.unit(st.flow(dir1, vel))
+    d2 = np.cross(normals, d1)
+    return z[:, :1] * d1 + z[:, 1:2] * d2 + z[:, 2:] * normals
 
 
 def nearest_distance(P, Q, rows=512):

@@ -117,13 +117,41 @@ def style(name, **changes):
     return replace(STYLES[name], **changes).check()
 
 
+UP = np.array([0.0, 0.0, 1.0])          # the world's up (Blender's z)
+ALONG = np.array([1.0, 0.35])           # open outlines run this way across the view (right, a little up)
+
+
+def canonical(points, closed, eye):
+    """The order an outline's points are drawn in, the same from frame to frame as the
+    outline moves: a closed one anticlockwise as seen from the eye, from its topmost
+    point; an open one from the end that puts the other along ALONG in the view.
+    Returns the index order (Grease Pencil modifiers along strokes then do not crawl)."""
+    n = len(points)
+    order = np.arange(n)
+    if n < 2:
+        return order
+    forward = np.mean(points, axis=0) - np.asarray(eye, float)
+    forward /= max(np.linalg.norm(forward), 1e-300)
+    up = UP if abs(forward @ UP) < 0.99 else np.array([0.0, 1.0, 0.0])
+    right = np.cross(forward, up)
+    right /= np.linalg.norm(right)
+    xy = np.stack([points @ right, points @ np.cross(right, forward)], axis=1)
+    if not closed:
+        return order[::-1] if (xy[-1] - xy[0]) @ ALONG < 0 else order
+    x, y = xy[:, 0], xy[:, 1]
+    if (x * np.roll(y, -1) - np.roll(x, -1) * y).sum() < 0:        # clockwise: turn it round
+        order = order[::-1]
+    return np.roll(order, -int(np.argmax(y[order])))
+
+
 def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
-    """Visible parts of outlines as plain strokes; with a light, the side turned from
-    it is drawn heavier (by ``contrast``)."""
+    """Visible parts of outlines as plain strokes, each in its :func:`canonical` order;
+    with a light, the side turned from it is drawn heavier (by ``contrast``)."""
     out = StrokeSet()
     polys, norms = [], []
     for o in outlines:
-        pts, nrm = o.points, o.normals
+        order = canonical(o.points, o.closed, eye)
+        pts, nrm = o.points[order], o.normals[order]
         if o.closed:
             pts, nrm = np.vstack([pts, pts[:1]]), np.vstack([nrm, nrm[:1]])
         polys.append(pts)

@@ -5,6 +5,8 @@ import numpy as np
 import pytest
 
 from blobtree_ink import model as M
+from blobtree_ink.model import keyed
+from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.strokes import layers, smarticles as sm
 
 K = math.sqrt(1 - 0.5 ** (1 / 3))
@@ -18,6 +20,11 @@ def cylinder():
     return ev_of({"type": "segment", "a": [-4, 0, 0], "b": [4, 0, 0], "radius": 1.0})
 
 
+def keys(n, salt=0):
+    """The smarticles' own keys (model.keyed)."""
+    return keyed.combine(np.arange(n, dtype=np.uint64), salt)
+
+
 def ring_starts(r, n, x=0.0):
     t = np.linspace(0, 2 * np.pi, n, endpoint=False)
     return np.stack([np.full(n, x), r * np.cos(t), r * np.sin(t)], axis=1)
@@ -26,10 +33,10 @@ def ring_starts(r, n, x=0.0):
 def test_paths_stay_on_the_surface_and_follow_the_principal_direction():
     ev = cylinder()
     r = K
-    rng = np.random.default_rng(0)
     rules = sm.StrokeRules(max_steps=15, stop_on_curvature_sign=False)
     # dir2 (zero curvature) is the axis; dir1 goes around
-    res = sm.run(ev, ring_starts(r, 12), layers.direction_field("dir2"), 0.05, sm.PRESETS["hatching"], rules, rng)
+    res = sm.run(ev, ring_starts(r, 12), layers.direction_field("dir2"), 0.05, sm.PRESETS["hatching"], rules,
+                 keys(12))
     for p in res.paths:
         assert len(p) == 16
         f = ev.field(p)
@@ -38,7 +45,7 @@ def test_paths_stay_on_the_surface_and_follow_the_principal_direction():
         cosang = np.abs(seg[:, 0]) / np.linalg.norm(seg, axis=1)
         assert cosang.min() > math.cos(math.radians(5))
     res = sm.run(ev, ring_starts(r, 6, x=1.0), layers.direction_field("dir1"), 0.05, sm.PRESETS["hatching"],
-                 rules, rng)
+                 rules, keys(6))
     for p in res.paths:
         assert np.abs(p[:, 0] - 1.0).max() < 1e-6          # around the cylinder, not along it
 
@@ -46,17 +53,16 @@ def test_paths_stay_on_the_surface_and_follow_the_principal_direction():
 def test_termination_rules_and_the_terminating_point_is_excluded():
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     r = K
-    rng = np.random.default_rng(1)
     rules = sm.StrokeRules(max_steps=200, max_normal_angle=math.radians(30), stop_on_curvature_sign=False)
     res = sm.run(ev, np.array([[0, 0, r]]), layers.direction_field("axis", (1, 0, 0)), 0.02,
-                 sm.PRESETS["hatching"], rules, rng)
+                 sm.PRESETS["hatching"], rules, keys(1))
     p, n = res.paths[0], res.normals[0]
     assert res.reasons[0] == "normal angle"
     angles = np.degrees(np.arccos(np.clip(n @ n[0], -1, 1)))
     assert angles.max() <= 30 and angles.max() > 27     # stopped just before the limit, not after
     rules = sm.StrokeRules(max_steps=200, max_length=0.1, max_normal_angle=math.pi, stop_on_curvature_sign=False)
     res = sm.run(ev, np.array([[0, 0, r]]), layers.direction_field("axis", (1, 0, 0)), 0.02,
-                 sm.PRESETS["hatching"], rules, rng)
+                 sm.PRESETS["hatching"], rules, keys(1))
     L = np.linalg.norm(np.diff(res.paths[0], axis=0), axis=1).sum()
     assert res.reasons[0] == "length" and 0.08 <= L <= 0.1
 
@@ -66,14 +72,14 @@ def test_curvature_sign_change_ends_a_stroke():
     ev = ev_of({"type": "blend", "children": [{"type": "point", "center": [0, 0, 0], "radius": 2.0},
                                               {"type": "point", "center": [0, 0, 1.15], "radius": 0.8,
                                                "strength": -0.6}]})
-    rng = np.random.default_rng(2)
     from blobtree_ink.agents.surface import Surface
     from blobtree_ink.model.curvature import curvature
     start = Surface(ev, None).project(np.array([[-0.75, 0.0, 0.5]]))[0]
     assert curvature(ev, start)["mean"][0] > 0
     assert curvature(ev, Surface(ev, None).project(np.array([[0.0, 0, 0.8]]))[0])["mean"][0] < 0
     rules = sm.StrokeRules(max_steps=400, max_normal_angle=math.pi, stop_on_curvature_sign=True)
-    res = sm.run(ev, start, layers.direction_field("axis", (1, 0, 0)), 0.01, sm.PRESETS["hatching"], rules, rng)
+    res = sm.run(ev, start, layers.direction_field("axis", (1, 0, 0)), 0.01, sm.PRESETS["hatching"], rules,
+                 keys(1))
     assert res.reasons[0] == "curvature sign"
     last = res.paths[0][-1]
     assert curvature(ev, last[None])["mean"][0] > 0      # the convex side: the crossing point is excluded
@@ -82,13 +88,12 @@ def test_curvature_sign_change_ends_a_stroke():
 
 def test_flocking_cohesion_converges_and_separation_keeps_apart():
     ev = cylinder()
-    rng = np.random.default_rng(3)
     starts = np.array([[0, K * math.cos(a), K * math.sin(a)] for a in np.linspace(-0.6, 0.6, 6)])
     rules = sm.StrokeRules(max_steps=40, stop_on_curvature_sign=False, max_normal_angle=math.pi)
     field = layers.direction_field("dir2")
     spread = lambda res: np.ptp(np.array([p[-1] for p in res.paths])[:, 1:], axis=0).max()   # noqa: E731
-    together = sm.run(ev, starts, field, 0.03, {"flow": 1.0, "cohesion": 3.0}, rules, rng, flock=np.zeros(6, int))
-    apart = sm.run(ev, starts, field, 0.03, {"flow": 1.0, "separation": 3.0}, rules, rng, flock=np.zeros(6, int),
+    together = sm.run(ev, starts, field, 0.03, {"flow": 1.0, "cohesion": 3.0}, rules, keys(6), flock=np.zeros(6, int))
+    apart = sm.run(ev, starts, field, 0.03, {"flow": 1.0, "separation": 3.0}, rules, keys(6), flock=np.zeros(6, int),
                    separation_radius=0.6)
     start_spread = np.ptp(starts[:, 1:], axis=0).max()
     assert spread(together) < 0.5 * start_spread
@@ -100,13 +105,11 @@ def test_flocking_cohesion_converges_and_separation_keeps_apart():
 
 def test_hatching_only_in_shade_and_stipples_are_dots():
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
-    rng = np.random.default_rng(4)
-    d = np.random.default_rng(5).normal(size=(400, 3))
-    d /= np.linalg.norm(d, axis=1)[:, None]
-    starts, normals = K * d, d
+    marks = surface_marks(ev, 0.03)
+    assert len(marks) > 300
     eye = np.array([0.0, -6.0, 0.0])
     light = (0.0, -1.0, 1.0)
-    strokes = layers.hatching(ev, starts, normals, eye, light, 0.02, rng, field="dir1", lower=0.2, upper=0.5)
+    strokes = layers.hatching(ev, marks, eye, light, 0.02, field="dir1", lower=0.2, upper=0.5)
     assert strokes
     L = np.array(light) / np.linalg.norm(light)
     for s in strokes:
@@ -114,8 +117,10 @@ def test_hatching_only_in_shade_and_stipples_are_dots():
         assert (nn @ L).max() <= 0.5 + 1e-9           # shortened where it would leave the shade
         assert (s.points[:, 1] < 0.05).all()          # only the side facing the eye is drawn
         assert not s.dots
-    dots = layers.stipples(ev, starts, normals, eye, light, 0.02, rng)
+        assert s.mark in set(int(k) for k in marks.keys)
+    dots = layers.stipples(ev, marks, eye, light, 0.02)
     assert dots and all(s.dots and len(s.points) == 1 for s in dots)
+    assert len({s.mark for s in dots}) == len(dots)            # every dot its own mark
     P = np.concatenate([s.points for s in dots])
     assert np.abs(ev.field(P) - 0.5).max() < 1e-9
 
@@ -129,13 +134,13 @@ def test_seek_reaches_its_target_on_the_surface():
     target = np.array([0.0, K, 0.0])
     rules = sm.StrokeRules(max_steps=60, max_normal_angle=math.pi, stop_on_curvature_sign=False)
     res = sm.run(ev, np.array([[K, 0.0, 0.0]]), layers.direction_field("dir1"), 0.02, {"seek": 1.0}, rules,
-                 np.random.default_rng(0), target=target)
+                 keys(1), target=target)
     d = np.linalg.norm(res.paths[0] - target, axis=1)
     assert d[-1] < 0.03 and d[0] > 0.6
     assert np.abs(ev.field(res.paths[0]) - 0.5).max() < 1e-6
     with pytest.raises(ValueError, match="seek behaviour needs a target"):
         sm.run(ev, np.array([[K, 0.0, 0.0]]), layers.direction_field("dir1"), 0.02, {"seek": 1.0}, rules,
-               np.random.default_rng(0))
+               keys(1))
 
 
 def test_path_following_keeps_a_wandering_smarticle_on_its_path():
@@ -148,7 +153,7 @@ def test_path_following_keeps_a_wandering_smarticle_on_its_path():
 
     def worst(weights):
         res = sm.run(ev, start, layers.direction_field("straight"), 0.01, weights, rules,
-                     np.random.default_rng(3), headings=head, path=path)
+                     keys(1, 3), headings=head, path=path)
         return sm.nearest_distance(res.paths[0], path).max()
     follow = worst({"wander": 0.6, "path": 2.0})
     drift = worst({"wander": 0.6})
@@ -162,9 +167,8 @@ def test_containment_steers_back_before_leaving_the_region():
     region = Region(sphere=(top, 0.15))
     rules = sm.StrokeRules(max_steps=150, max_normal_angle=math.pi, stop_on_curvature_sign=False, region=region)
     kept = sm.run(ev, top[None], layers.direction_field("dir1"), 0.01, {"wander": 0.5, "containment": 3.0}, rules,
-                  np.random.default_rng(1))
-    free = sm.run(ev, top[None], layers.direction_field("dir1"), 0.01, {"wander": 0.5}, rules,
-                  np.random.default_rng(1))
+                  keys(1))
+    free = sm.run(ev, top[None], layers.direction_field("dir1"), 0.01, {"wander": 0.5}, rules, keys(1))
     assert kept.reasons[0] == "steps" and len(kept.paths[0]) == 151
     assert region.contains(kept.paths[0]).all()
     assert free.reasons[0] == "left region" and len(free.paths[0]) < 100
@@ -177,6 +181,6 @@ def test_a_start_that_does_not_reach_the_surface_draws_nothing():
                                                                    "radius": 1.0}}))
     starts = np.array([[0.0, -0.6, 0.0], [0.0, -50.0, 0.0]])
     res = sm.run(ev, starts, layers.direction_field("dir1"), 0.05, sm.PRESETS["hatching"],
-                 sm.StrokeRules(max_steps=5), np.random.default_rng(0))
+                 sm.StrokeRules(max_steps=5), keys(2))
     assert len(res.paths[0]) > 3 and res.paths[1].shape == (0, 3) and res.reasons[1] == "lost surface"
     assert np.abs(ev.field(res.paths[0]) - 0.5).max() < 1e-6

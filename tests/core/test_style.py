@@ -12,6 +12,7 @@ from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.curvature import curvature
+from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.agents import steering as st
 from blobtree_ink.strokes import layers, smarticles as sm, style as ST
 from blobtree_ink.strokes.visibility import split_visible, split_visible_many
@@ -88,7 +89,7 @@ def test_feature_distance_ends_a_stroke_without_its_terminating_point():
     rules = sm.StrokeRules(max_steps=100, max_normal_angle=math.pi, stop_on_curvature_sign=False,
                            feature_points=feat, max_feature_distance=0.2)
     res = sm.run(ev, start, layers.direction_field("axis", (0, 0, 1)), 0.02, sm.PRESETS["hatching"], rules,
-                 np.random.default_rng(0))
+                 np.zeros(1, np.uint64))
     assert res.reasons[0] == "feature distance"
     d = sm.nearest_distance(res.paths[0], feat)
     assert d.max() <= 0.2 and d.max() > 0.2 - 0.03          # went as far as allowed, not a step further
@@ -117,17 +118,16 @@ def test_chain_strokes_start_on_the_silhouette_and_go_to_the_visible_side(sphere
         assert np.all(p[:, 0] <= 0.05 * K + 1e-9)          # only in the shade
 
 
-def test_short_strokes_are_centred_on_polygon_centres(sphere_session):
+def test_short_strokes_are_centred_on_their_marks(sphere_session):
     s, eye = sphere_session
-    C, CN = s.snapshot().face_centres()
+    marks = surface_marks(s.ev, s.h)
     step = 0.3 * s.h
-    out = layers.short_strokes(s.ev, C, CN, eye, np.array([0.0, 0.0, 1.0]), step, np.random.default_rng(0),
-                               steps=3, lower=0.9, upper=0.95)
+    out = layers.short_strokes(s.ev, marks, eye, np.array([0.0, 0.0, 1.0]), step, steps=3, lower=0.9, upper=0.95)
     whole = [x for x in out if len(x.points) == 7]
     assert len(whole) > 10
+    at = {int(k): p for k, p in zip(marks.keys, marks.points)}
     for x in whole:
-        mid = x.points[3]
-        assert np.linalg.norm(C - mid, axis=1).min() < 0.5 * s.h      # the centre of the polygon
+        assert np.linalg.norm(x.points[3] - at[x.mark]) < 1e-6 * s.h      # through its mark
         assert np.linalg.norm(x.points[0] - x.points[-1]) > 4 * step     # goes both ways
 
 
@@ -149,14 +149,17 @@ def test_concave_hatching_stays_in_the_concave_region(blend_session):
 
 
 def test_flocks_spawn_side_by_side_and_flocked_hatching_differs(blend_session):
-    rng = np.random.default_rng(0)
     starts = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
     normals = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0]])
     heads = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
-    P, H, ids = layers.spawn_flocks(starts, normals, heads, 5, 0.1, rng)
-    assert P.shape == (10, 3) and list(ids) == [0] * 5 + [1] * 5
+    P, H, ids, members = layers.spawn_flocks(starts, normals, heads, 5, 0.1, np.array([7, 9], np.uint64))
+    assert P.shape == (10, 3) and list(ids) == [0] * 5 + [1] * 5 and len(set(members.tolist())) == 10
     assert np.allclose(H[:5], heads[0]) and np.allclose(H[5:], heads[1])
     assert np.ptp(P[:5, 1]) > 0.3 and np.ptp(P[5:, 2]) > 0.3      # spread across the heading
+    # a flock spawned about a turned start is the same flock, turned (its places are its keys')
+    R = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])
+    Q, _, _, _ = layers.spawn_flocks(starts @ R.T, normals @ R.T, heads @ R.T, 5, 0.1, np.array([7, 9], np.uint64))
+    assert np.allclose(Q, P @ R.T, atol=1e-12)
     s, eye = blend_session
     light = np.array([0.0, 0.0, 1.0])
     flock = drawn(s.ev, eye, light, ST.style("flocked"), res=16).layers["Hatching"]
