@@ -182,3 +182,131 @@ def test_real_ui_add_menu_search_and_whole_node_errors(user_dir, tmp_path):
     below = (slice(y + 10, y + 60), slice(max(x - 40, 0), x + 200))
     changed = np.abs(shots["node_error_tooltip.png"][below] - shots["node_error_blend.png"][below]).sum(axis=2) > 30
     assert changed.mean() > 0.2
+
+
+def _ink_mask(strokes, shape, reach=3, step=0.5):
+    """Pixels within ``reach`` of the strokes' polylines (pixel points, x right, y down)."""
+    h, w = shape
+    pieces = []
+    for s in strokes:
+        P = np.asarray(s, float).reshape(-1, 2)
+        pieces.append(P)
+        pieces += [a + np.linspace(0, 1, int(np.ceil(np.linalg.norm(b - a) / step)) + 1)[:, None] * (b - a)
+                   for a, b in zip(P, P[1:])]
+    Q = np.floor(np.concatenate(pieces)).astype(int)
+    near = np.zeros(shape, bool)
+    for dy in range(-reach, reach + 1):
+        for dx in range(-reach, reach + 1):
+            near[np.clip(Q[:, 1] + dy, 0, h - 1), np.clip(Q[:, 0] + dx, 0, w - 1)] = True
+    return near
+
+
+def _darkest(img, xy):
+    """The darkest pixel of each point's 3x3 neighbourhood (points inside the image)."""
+    x, y = np.floor(xy[:, 0]).astype(int), np.floor(xy[:, 1]).astype(int)
+    return np.min([img[y + dy, x + dx] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
+
+
+def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
+    """Issue #28: an artist's first hour in the real UI, keys and clicks by xdotool
+    (tests/real/ui/first_hour.py says which steps are Python set-up): the cube deleted, a
+    tree of two Points, a Blend and a Model Output added with Shift+A and linked by mouse
+    drags, a Center typed into its field, the camera aligned to the view; outlines,
+    the stippled look and the hatched look from menu search (F3), the hatching stopped
+    by Esc in the middle (the runner's hook holds it there); F12 in EEVEE and Workbench.
+    The renders are ink on white paper: each layer's strokes dark where the camera
+    projects them, white paper elsewhere, no preview mesh; the viewport draws the
+    stipples."""
+    out = str(tmp_path / "ui")
+    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
+                "--script", os.path.join(REPO, "tests", "real", "ui", "first_hour.py"),
+                "--out", out, "--user", user_dir, "--timeout", "900", timeout=1000)
+    facts = json.load(open(os.path.join(out, "facts.json")))
+    print("real-UI first hour:", json.dumps({k: v for k, v in facts.items() if not k.startswith("sockets")}))
+    for name in sorted(os.listdir(out)):
+        if name.startswith("first_hour_") and name.endswith(".png"):
+            shutil.copy(os.path.join(out, name), artifact(name))
+    for label in ("scene", "workbench"):
+        if os.path.exists(os.path.join(out, f"render_{label}.png")):
+            shutil.copy(os.path.join(out, f"render_{label}.png"), artifact(f"first_hour_render_{label}.png"))
+    assert "error" not in facts, facts.get("error")
+    # 1. the extension on, the default cube deleted by Delete over the viewport
+    assert facts["extension_enabled"] is True and facts["background"] is False
+    assert facts["selected_at_start"] == ["Cube"] and facts["objects_after_delete"] == ["Camera", "Light"]
+    # 2. a new tree is empty (no Model Output): four nodes added by hand, linked by drags
+    assert facts["nodes_in_new_tree"] == []
+    assert facts["node_kinds"] == ["blend", "output", "point", "point"]
+    assert facts["links"] == [["Blend", "Field", "Model Output", "Model"], ["Point", "Field", "Blend", "Field 1"],
+                              ["Point.001", "Field", "Blend", "Field 2"]]
+    assert facts["centers"] == [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]                   # typed into the field
+    assert facts["node_errors"] == ["", "", "", ""] and facts["preview_faces"] > 1000  # it compiles
+    (u0, u1), (v0, v1) = facts["model_in_camera"]                                   # the camera frames it
+    assert 0 < u0 < u1 < 1 and 0 < v0 < v1 < 1 and v1 - v0 > 0.4, facts["model_in_camera"]
+    assert facts["view_perspective"] == "CAMERA" and facts["ink_parent"] == facts["preview_name"]
+    # 3.-5. each request writes its own layers; the others stay, point for point
+    runs = facts["runs"]
+    assert [runs[k]["state"] for k in ("outlines", "stippled", "hatched_esc", "hatched_full")] == \
+        ["done", "done", "stopped", "done"]
+    c3, c4, held, esc, full = (facts[k] for k in ("counts_outlines", "counts_stippled", "counts_held",
+                                                   "counts_after_esc", "counts_full"))
+    assert c3["Silhouette"] > 0 and c3["Stipples"] == c3["Hatching"] == 0
+    assert c3["Crease"] == 0                          # a blend of two balls is smooth: no CSG creases
+    assert c4["Stipples"] > 100 and c4["Hatching"] == 0
+    assert facts["same_outlines_after_stippled"] == {"Silhouette": True, "Crease": True, "Curvature": True}
+    assert facts["held_state"] == "running" and facts["held_stage"] == "hatching" and held["Hatching"] > 0
+    # Esc kept the part-drawn hatching: more than none, less than the whole look draws
+    assert esc["Hatching"] >= held["Hatching"] and 0 < esc["Hatching"] < full["Hatching"], (esc, full)
+    assert runs["hatched_esc"]["fraction"] < 1.0
+    every = {"Silhouette": True, "Crease": True, "Curvature": True, "Stipples": True}
+    assert facts["same_after_esc"] == every and facts["same_after_full"] == every
+    # 6. F12 in the scene's engine (EEVEE in factory settings), then in Workbench
+    renders = facts["renders"]
+    assert renders["scene"]["engine"] == "BLENDER_EEVEE" and renders["workbench"]["engine"] == "BLENDER_WORKBENCH"
+    assert all(r["end"] == "complete" and r["size"] == facts["render_size"] == [960, 540] for r in renders.values())
+    assert facts["preview_hide_render"] is True and facts["world"] == "BlobTree Ink Paper"
+    points = json.load(open(os.path.join(out, "render_points.json")))
+    assert points["Crease"] == [] and all(points[k] for k in ("Silhouette", "Stipples", "Hatching"))
+    for label in ("scene", "workbench"):
+        img = read_png(artifact(f"first_hour_render_{label}.png")).astype(float).mean(axis=2) / 255
+        assert img.shape == (540, 960)
+        near_ink = np.zeros(img.shape, bool)
+        for name in ("Silhouette", "Stipples", "Hatching"):
+            xy = np.array([q for s in points[name] for q in s], float)
+            inside = (xy[:, 0] >= 1) & (xy[:, 0] < 959) & (xy[:, 1] >= 1) & (xy[:, 1] < 539)
+            assert inside.all(), f"{label}: the {name} layer leaves the frame"
+            dark = _darkest(img, xy)
+            assert np.median(dark) < 0.55, f"{label}: the {name} layer is not ink in the render ({np.median(dark):.2f})"
+            near_ink |= _ink_mask(points[name], img.shape)
+        paper = img[~near_ink]
+        assert np.median(paper) > 0.97 and np.quantile(paper, 0.05) > 0.9, f"{label}: not white paper"
+        # inside the model's silhouette (its preview's vertices, projected) and away from the ink: white, so
+        # no preview mesh shows
+        V = np.floor(np.array(points["preview_vertices"], float)).astype(int)
+        model = np.zeros(img.shape, bool)
+        model[V[:, 1], V[:, 0]] = True
+        blank = img[model & ~near_ink]
+        assert len(blank) > 500 and np.median(blank) > 0.97 and np.quantile(blank, 0.05) > 0.9, \
+            f"{label}: the preview mesh shows in the render"
+    # 4. the viewport draws the stipples: after the stippled look, the pixels where the stipples project got
+    # dark, and what changed in the viewport is there
+    view = json.load(open(os.path.join(out, "viewport_points.json")))
+    S = np.array(view["stipples"], float)
+    assert len(S) > 100
+    before, after = (read_png(artifact(n)).astype(float).mean(axis=2) / 255
+                     for n in ("first_hour_3_outlines.png", "first_hour_4_stippled.png"))
+    d0, d1 = _darkest(before, S), _darkest(after, S)
+    assert np.median(d1) < np.median(d0) - 0.1, (np.median(d0), np.median(d1))
+    assert (d0 - d1 > 0.15).sum() > 200, "the stipples do not show in the viewport"
+    x, y, w, h = view["viewport"]
+    changed = np.abs(after - before)[y:y + h, x:x + w] > 0.1
+    near = _ink_mask([[p] for p in S - [x, y]], (h, w))
+    assert changed.sum() > 300 and (changed & near).sum() > 0.95 * changed.sum(), \
+        (changed.sum(), (changed & near).sum())
+    # for the record (not checked): how much the outlines and the hatching darken the viewport where they
+    # project (the preview mesh hides much of them there; the renders show them whole)
+    camera, full = (read_png(artifact(n)).astype(float).mean(axis=2) / 255
+                    for n in ("first_hour_2_camera.png", "first_hour_5_hatched_full.png"))
+    for name, a, b in (("silhouette", camera, before), ("hatching", after, full)):
+        P = np.array(view[name], float)
+        print(f"viewport {name}: {len(P)} points, darkened by 0.15 or more at "
+              f"{np.mean(_darkest(a, P) - _darkest(b, P) >= 0.15):.0%}")
