@@ -93,10 +93,13 @@ def _paper(self, context):
 
 
 def _render_preview(self, context):
+    from ..grease_pencil import scene as S
     tree = self.id_data
     obj = getattr(tree, "preview_object", None)
     if obj is not None:
         obj.hide_render = not self.render_preview
+    if self.paper and context.scene is not None:
+        S.depth_pass(context.scene, not self.render_preview)
 
 
 class BlobTreeInkSettings(bpy.types.PropertyGroup):
@@ -114,7 +117,7 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
     seed: bpy.props.IntProperty(
         name="Seed", default=_RunSettings.seed, min=0,
         description="Seed of the random choices (exploring agents, which strokes go in the penumbra, wander): "
-                    "the same seed draws the same strokes")
+                    "the same seed draws the same strokes, in every frame; another seed, another set")
     use_camera: bpy.props.BoolProperty(
         name="From Camera", default=True,
         description="Illustrate the model as the scene camera sees it (else as the 3D viewport does)")

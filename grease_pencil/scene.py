@@ -16,14 +16,18 @@ PAPER = (1.0, 1.0, 1.0)
 def paper(scene):
     """Put the scene on white paper: the paper world (white in Workbench, EEVEE and
     Material Preview), the Standard view transform with no look (white stays white),
-    an opaque film. Returns what it replaced, as a JSON string for :func:`unpaper`
-    ("" when the scene was on paper already)."""
+    an opaque film, and the depth pass on in every view layer (Grease Pencil renders
+    hidden by the scene's objects with it, and Blender warns on every render without
+    it). Returns what it replaced, as a JSON string for :func:`unpaper` ("" when the
+    scene was on paper already)."""
     vs = scene.view_settings
     if scene.world is not None and scene.world.name == PAPER_WORLD and vs.view_transform == "Standard":
         return ""
     was = json.dumps({"world": scene.world.name if scene.world is not None else "",
                       "view_transform": vs.view_transform, "look": vs.look, "exposure": vs.exposure,
-                      "gamma": vs.gamma, "film_transparent": scene.render.film_transparent})
+                      "gamma": vs.gamma, "film_transparent": scene.render.film_transparent,
+                      "depth": {vl.name: vl.use_pass_z for vl in scene.view_layers}})
+    depth_pass(scene, True)
     world = bpy.data.worlds.get(PAPER_WORLD) or bpy.data.worlds.new(PAPER_WORLD)
     world.color = PAPER
     tree = getattr(world, "node_tree", None)
@@ -51,6 +55,16 @@ def unpaper(scene, was):
     vs.look = d["look"]
     vs.exposure, vs.gamma = d["exposure"], d["gamma"]
     scene.render.film_transparent = d["film_transparent"]
+    for vl in scene.view_layers:
+        if vl.name in d.get("depth", {}):
+            vl.use_pass_z = d["depth"][vl.name]
+
+
+def depth_pass(scene, on):
+    """The depth pass on or off in every view layer: off while the preview mesh renders,
+    so that the ink on the exact surface is not hidden by the rough mesh about it."""
+    for vl in scene.view_layers:
+        vl.use_pass_z = on
 
 
 def setup(scene, centre, eye, size, light_dir):

@@ -37,15 +37,18 @@ def _material(name, dots):
 
 
 def ink_object(name, collection=None):
-    """The model's Grease Pencil object (created once, then reused), with its materials
-    and layers; with ``collection``, in that collection and no other (a new object
-    without one goes to the scene's)."""
+    """The model's Grease Pencil object (created once, then reused, drawn in front in
+    the viewport), with its materials and layers; with ``collection``, in that collection
+    and no other (a new object without one goes to the scene's)."""
     obj = bpy.data.objects.get(name)
     if obj is not None and obj.type != "GREASEPENCIL":
         raise ValueError(f"an object named '{name}' exists and is not Grease Pencil")
     if obj is None:
         gp = compat.grease_pencil_data().new(name)
         obj = bpy.data.objects.new(name, gp)
+        # in front of the preview mesh in the viewport: the ink lies on the exact surface,
+        # which the rough preview mesh cuts through (its hidden lines are removed already)
+        obj.show_in_front = True
         (collection or bpy.context.scene.collection).objects.link(obj)
     elif collection is not None:
         if collection.name not in [c.name for c in obj.users_collection]:

@@ -223,9 +223,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         pr = self._figures(result.progress)
         context.window_manager.progress_update(100.0 * pr.fraction)
         what = "stopping: removing hidden lines" if self.stopping else pr.stage
+        agents = f"; iteration {pr.iterations}" if pr.iterations else ""
         context.workspace.status_text_set(
             f"BlobTree Ink: {100 * pr.fraction:.0f} % ({what}, stage {min(pr.stage_index + 1, pr.stages)} "
-            f"of {pr.stages}; iteration {pr.iterations})  Esc: stop and keep")
+            f"of {pr.stages}{agents})  Esc: stop and keep")
 
     def _end(self, context, state):
         t0 = time.perf_counter()
@@ -273,8 +274,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         last_run["state"] = state
         for w in warnings:
             self.report({"WARNING"}, w)
-        self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes after "
-                              f"{last_run['iterations']} iterations")
+        traced = f", the outlines after {last_run['iterations']} iterations" if last_run["iterations"] else ""
+        self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes{traced}")
 
 
 classes = (BLOBTREE_INK_OT_illustrate,)

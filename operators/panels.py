@@ -89,20 +89,37 @@ def _draw_layers(layout, tree):
         layout.label(text="Nothing drawn yet")
         return
     col = layout.column(align=True)
+    frame = bpy.context.scene.frame_current
     for layer in obj.data.layers:
-        n = sum(len(fr.drawing.strokes) for fr in layer.frames)
-        op = col.operator("blobtree_ink.toggle_layer", text=f"{layer.name} ({n})",
-                          icon="HIDE_ON" if layer.hide else "HIDE_OFF", depress=not layer.hide)
+        n = _strokes_at(layer, frame)
+        row = col.row(align=True)
+        row.active = n > 0                  # an empty layer greyed out
+        op = row.operator("blobtree_ink.toggle_layer", text=f"{layer.name} ({n})",
+                          icon="HIDE_ON" if layer.hide else "HIDE_OFF", depress=n > 0 and not layer.hide)
         op.object_name, op.layer = obj.name, layer.name
+
+
+def _strokes_at(layer, frame):
+    """The strokes of a layer's drawing shown at a frame (its last keyframe at or before
+    it; 0 before its first)."""
+    shown = [fr for fr in layer.frames if fr.frame_number <= frame]
+    return len(max(shown, key=lambda fr: fr.frame_number).drawing.strokes) if shown else 0
 
 
 def _draw_last_run(layout):
     if not last_run:
         return
     col = layout.column(align=True)
-    col.label(text=f"Last run: {last_run.get('state', '')}")
-    col.label(text=f"Done: {100 * last_run.get('fraction', 0.0):.0f} % ({last_run.get('stage', '')})")
-    col.label(text=f"Iterations: {last_run.get('iterations', 0)}")
+    state, pct = last_run.get("state", ""), 100 * last_run.get("fraction", 0.0)
+    if state == "running":
+        col.label(text=f"Running: {pct:.0f} % ({last_run.get('stage', '')})")
+    elif state == "stopped":
+        col.label(text=f"Last run: stopped at {pct:.0f} %")
+    else:
+        col.label(text=f"Last run: {state}")
+    col.label(text=f"Strokes: {last_run.get('strokes', 0)}")
+    if last_run.get("iterations"):
+        col.label(text=f"Agents' iterations: {last_run['iterations']}")
 
 
 class _Sidebar:
