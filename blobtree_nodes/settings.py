@@ -89,6 +89,7 @@ def _paper(self, context):
     from ..grease_pencil import scene as S
     if not self.paper and context.scene is not None:
         S.unpaper(context.scene, self.paper_restore)
+        S.paper_viewports(context.screen, False)
         self.paper_restore = ""
 
 
@@ -100,6 +101,13 @@ def _render_preview(self, context):
         obj.hide_render = not self.render_preview
     if self.paper and context.scene is not None:
         S.depth_pass(context.scene, not self.render_preview)
+
+
+def bake_range(ink, scene):
+    """The frames a bake of the tree illustrates: the scene's range or the tree's own."""
+    if ink.use_scene_range:
+        return scene.frame_start, scene.frame_end
+    return ink.frame_start, ink.frame_end
 
 
 class BlobTreeInkSettings(bpy.types.PropertyGroup):
@@ -133,14 +141,22 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         description="Radius of the sphere around the 3D cursor, as a fraction of the model's size")
     paper: bpy.props.BoolProperty(
         name="Paper", default=True, update=_paper,
-        description="Ink on white paper: a white world in renders and Material Preview, a view transform that "
-                    "keeps white white, the preview mesh in white (off: the scene's own look is left as it is)")
+        description="Ink on white paper: a white world in renders, Material Preview and the Solid viewport's "
+                    "background, a view transform that keeps white white, the preview mesh in white (off: the "
+                    "scene's own look is left as it is)")
     paper_restore: bpy.props.StringProperty(options={"HIDDEN"},
                                             description="What Paper replaced in the scene (restored when it is off)")
     render_frames: bpy.props.BoolProperty(
         name="Illustrate Rendered Frames", default=True,
         description="When a render reaches a frame the ink has no drawing of (or one a render made), illustrate "
                     "it first: the outlines and the style's strokes (a bake's or the artist's drawings are kept)")
+    use_scene_range: bpy.props.BoolProperty(
+        name="Scene Range", default=True,
+        description="Bake the scene's frame range (the timeline's Start and End); off: the range below")
+    frame_start: bpy.props.IntProperty(name="Start", default=1, min=0,
+                                       description="First frame a bake illustrates (when not the scene's range)")
+    frame_end: bpy.props.IntProperty(name="End", default=24, min=0,
+                                     description="Last frame a bake illustrates (when not the scene's range)")
     render_preview: bpy.props.BoolProperty(
         name="Render Preview Mesh", default=False, update=_render_preview,
         description="Render the preview mesh too (off: only the ink shows in renders)")
@@ -153,7 +169,7 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
                                    description="Place Strokes draws strokes started from the silhouette and crease "
                                                "chains (traces the outlines first)")
     short: bpy.props.BoolProperty(name="Short Strokes", default=_STYLE.short,
-                                  description="Place Strokes draws short strokes centred on the polygon centres")
+                                  description="Place Strokes draws short strokes through points spread over the shade")
     hatch_field: bpy.props.EnumProperty(name="Flow Field", default=_STYLE.hatch_field.upper(), items=FIELD_ITEMS,
                                         description="The direction hatching and short strokes follow")
     cross_field: bpy.props.EnumProperty(name="Cross Field", default=_STYLE.cross_field.upper(), items=FIELD_ITEMS,
@@ -192,8 +208,8 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
     stipple_every: bpy.props.IntProperty(name="Stipple Every", default=_STYLE.stipple_every, min=1, max=1000,
                                          description="A stipple at every k-th step of a wandering smarticle")
     line_width: bpy.props.FloatProperty(name="Line Width", default=_STYLE.line_width, min=0.01, max=100.0,
-                                        description="Width of every line and dot, times the base width (0.0025 of "
-                                                    "the model's size)")
+                                        description="Width of every line and dot, times the base width (about a "
+                                                    "pixel at 1024 pixels in a view framing the model)")
     contrast: bpy.props.FloatProperty(name="Light Contrast", default=_STYLE.contrast, min=0.0, max=1.0,
                                       description="How much the light sets stroke width and opacity (0: uniform)")
 

@@ -1,5 +1,6 @@
 """The scene around an illustration: white paper (a white world, a view transform that
-keeps white white) for the UI and the command line, and the command line's camera at
+keeps white white, the 3D viewports' Solid background the world's) for the UI and the
+command line, and the command line's camera at
 the eye looking at the model and sun towards the light, all reused when they exist."""
 import json
 
@@ -58,6 +59,21 @@ def unpaper(scene, was):
     for vl in scene.view_layers:
         if vl.name in d.get("depth", {}):
             vl.use_pass_z = d["depth"][vl.name]
+
+
+def paper_viewports(screen, on):
+    """The 3D viewports of a screen on paper in Solid shading (their background the
+    world's: white on paper, so the ink reads), or back on the theme's."""
+    if screen is None:
+        return
+    for area in screen.areas:
+        if area.type != "VIEW_3D":
+            continue
+        shading = area.spaces.active.shading
+        if on:
+            shading.background_type = "WORLD"
+        elif shading.background_type == "WORLD":
+            shading.background_type = "THEME"
 
 
 def depth_pass(scene, on):

@@ -8,13 +8,16 @@ fails (the tree does not compile then, an object it follows is gone) ends the ba
 with a message naming it, the frames before it kept.
 
     bpy.ops.blobtree_ink.bake(tree_name="pear", frame_start=1, frame_end=24)
+    bpy.ops.blobtree_ink.bake(tree_name="pear")      # the tree's bake range (the scene's by default)
 """
 import bpy
 
 from .. import pipeline as PL
 from ..blobtree_nodes.animation import DriverError
 from ..blobtree_nodes.compile import TreeError
+from ..blobtree_nodes.settings import bake_range
 from . import frames as FR
+from . import jobs
 from .common import context_tree
 
 TICK = 0.05
@@ -29,12 +32,21 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
-    frame_start: bpy.props.IntProperty(name="Start", default=1, description="First frame to bake")
-    frame_end: bpy.props.IntProperty(name="End", default=250, description="Last frame to bake")
+    frame_start: bpy.props.IntProperty(name="Start", default=1,
+                                       description="First frame to bake (unset: the tree's bake range)")
+    frame_end: bpy.props.IntProperty(name="End", default=250,
+                                     description="Last frame to bake (unset: the tree's bake range)")
 
     def _start(self, context):
-        self.tree_key = context_tree(context, self.tree_name).name
-        self.frames = list(FR.frame_range(self.frame_start, self.frame_end))
+        tree = context_tree(context, self.tree_name)
+        self.tree_key = tree.name
+        start, end = bake_range(tree.ink, context.scene)
+        if self.properties.is_property_set("frame_start"):
+            start = self.frame_start
+        if self.properties.is_property_set("frame_end"):
+            end = self.frame_end
+        self.frames = list(FR.frame_range(start, end))
+        jobs.on_paper(context, tree)
         self.followed = FR.followed_objects(bpy.data.node_groups[self.tree_key])
         self.scene = context.scene
         self.frame_was = self.scene.frame_current
@@ -83,7 +95,8 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
                 job, _ = self._job(frame)
                 result = PL.Illustration(job).run()
             except ERRORS as e:
-                return self._finish("failed", e if isinstance(e, FR.FrameError) else FR.FrameError(f"frame {frame}: {e}"))
+                error = e if isinstance(e, FR.FrameError) else FR.FrameError(f"frame {frame}: {e}")
+                return self._finish("failed", error)
             self._write(frame, result)
         return self._finish("done")
 

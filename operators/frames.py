@@ -62,6 +62,33 @@ def drawn_frames(tree):
             for f in layer.frames if len(f.drawing.strokes)}
 
 
+def clear_frames(obj, frames):
+    """Remove an ink object's drawings at ``frames`` on every layer; returns the frames
+    that had one."""
+    gone = set()
+    for layer in obj.data.layers:
+        for f in [f.frame_number for f in layer.frames if f.frame_number in frames]:
+            layer.frames.remove(f)
+            gone.add(f)
+    obj[RENDERED] = sorted(set(obj.get(RENDERED, [])) - frames)
+    return gone
+
+
+def spans(frames):
+    """Frames as short text: "1-24, 30, 40-45"."""
+    out, run = [], []
+    for f in sorted(frames):
+        if run and f == run[-1] + 1:
+            run.append(f)
+            continue
+        if run:
+            out.append(f"{run[0]}-{run[-1]}" if len(run) > 1 else str(run[0]))
+        run = [f]
+    if run:
+        out.append(f"{run[0]}-{run[-1]}" if len(run) > 1 else str(run[0]))
+    return ", ".join(out)
+
+
 def rendered_frames(tree):
     obj = bpy.data.objects.get(ink_name(tree))
     return set(obj.get(RENDERED, [])) if obj is not None else set()

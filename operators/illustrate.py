@@ -28,7 +28,6 @@ from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview
 from ..blobtree_nodes.compile import TreeError, compile_tree
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
-from ..grease_pencil import scene as S
 from ..grease_pencil.writer import ink_object, stroke_count, write
 from ..strokes.data import LAYER_OF_KIND
 from ..model import Evaluator
@@ -113,11 +112,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                        inverse=inverse)
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
-        if ink.paper:
-            was = S.paper(context.scene)
-            if was:
-                ink.paper_restore = was
-            preview.paper_look(tree)
+        jobs.on_paper(context, tree)
         obj = ink_object(ink_name(tree), preview.tree_collection(tree))
         jobs.attach(obj, tree)
         self.obj_name = obj.name

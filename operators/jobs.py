@@ -46,6 +46,21 @@ def attach(ink, tree):
     ink.matrix_basis = Matrix.Identity(4)
 
 
+def on_paper(context, tree):
+    """Where the tree's Paper is on: the scene on white paper (what it replaced kept on
+    the tree, to give back), the screen's 3D viewports on the world's white, the preview
+    mesh white."""
+    if not tree.ink.paper:
+        return
+    from ..blobtree_nodes import preview
+    from ..grease_pencil import scene as S
+    was = S.paper(context.scene)
+    if was:
+        tree.ink.paper_restore = was
+    S.paper_viewports(context.screen, True)
+    preview.paper_look(tree)
+
+
 def camera_eye(scene, depsgraph=None):
     """The scene camera's position, or None without a camera."""
     cam = scene.camera

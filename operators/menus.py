@@ -31,6 +31,9 @@ class VIEW3D_MT_blobtree_ink(bpy.types.Menu):
             layout.operator("blobtree_ink.illustrate", text=label, icon=REQUEST_ICONS[ident]).request = ident
         layout.menu(VIEW3D_MT_blobtree_ink_looks.bl_idname)
         layout.separator()
+        layout.operator("blobtree_ink.bake", text="Bake Frames", icon="RENDER_ANIMATION")
+        layout.operator("blobtree_ink.clear_frames", text="Clear Frames", icon="TRASH")
+        layout.separator()
         layout.operator("blobtree_ink.import_json", icon="IMPORT")
 
 

@@ -1,9 +1,11 @@
 """Sidebar panels of the 3D viewport and the node editor ("BlobTree Ink" tab): the
-active tree expanded (its requests, preset looks, settings, style and ink layers), the
-other trees as one row each, and the latest run's figures."""
+active tree expanded (its requests, preset looks, settings, style, ink layers and
+animation: the bake range, Bake and Clear, the frames drawn), the other trees as one
+row each, and the latest run's figures."""
 import bpy
 
 from ..blobtree_nodes.settings import PRESETS
+from . import frames as FR
 from .common import active_tree, blobtrees, ink_name
 from .illustrate import REQUESTS, last_run
 from .menus import REQUEST_ICONS
@@ -191,7 +193,48 @@ def _layers_panel(space, parent):
     return Panel
 
 
+def _draw_animation(layout, tree, scene):
+    s = tree.ink
+    col = layout.column(align=True)
+    col.prop(s, "use_scene_range")
+    row = col.row(align=True)
+    if s.use_scene_range:
+        row.enabled = False
+        row.prop(scene, "frame_start", text="Start")
+        row.prop(scene, "frame_end", text="End")
+    else:
+        row.prop(s, "frame_start")
+        row.prop(s, "frame_end")
+    row = layout.row(align=True)
+    op = row.operator("blobtree_ink.bake", text="Bake", icon="RENDER_ANIMATION")
+    op.tree_name = tree.name
+    op = row.operator("blobtree_ink.clear_frames", text="Clear", icon="TRASH")
+    op.tree_name = tree.name
+    drawn = FR.drawn_frames(tree)
+    layout.label(text=f"Drawn frames: {FR.spans(drawn)}" if drawn else "No frame drawn yet")
+    layout.prop(s, "render_frames")
+
+
+def _animation_panel(space, parent):
+    class Panel(_Sidebar, bpy.types.Panel):
+        bl_label = "Animation"
+        bl_space_type = space
+        bl_parent_id = parent
+        bl_options = {"DEFAULT_CLOSED"}
+
+        @classmethod
+        def poll(cls, context):
+            return shown_tree(context) is not None
+
+        def draw(self, context):
+            _draw_animation(self.layout, shown_tree(context), context.scene)
+    Panel.__name__ = f"{space}_PT_blobtree_ink_animation"
+    Panel.bl_idname = Panel.__name__
+    return Panel
+
+
 classes = (VIEW3D_PT_blobtree_ink, _style_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
-           _layers_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
+           _layers_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"), _animation_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
            NODE_PT_blobtree_ink, _style_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"),
-           _layers_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"))
+           _layers_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"),
+           _animation_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"))

@@ -7,7 +7,7 @@ LAYER_TIPS = {
     "Curvature": "Curvature-sign lines: where the surface turns from convex to concave",
     "Hatching": "Hatching and cross-hatching in the shade",
     "Chains": "Strokes started from the silhouette and crease chains",
-    "Short Strokes": "Short strokes centred on the polygon centres",
+    "Short Strokes": "Short strokes through points spread over the shaded surface",
     "Stipples": "Stipples in the shade",
     "Single Strokes": "The single strokes drawn from the 3D cursor",
 }

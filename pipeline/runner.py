@@ -46,16 +46,20 @@ class RunnerError(RuntimeError):
 
 class Hold:
     """Test hook: armed with ``after`` (a number of steps) or ``at`` (a stage and the parts
-    of it done: Illustration.position), the next worker to get there waits until
-    :meth:`release` (or a stop or cancel)."""
+    of it done: Illustration.position), the ``run``-th worker started after arming (the
+    first by default: a bake starts one per frame) waits there until :meth:`release` (or
+    a stop or cancel)."""
 
     def __init__(self):
         self.after = self.at = None
+        self.run, self.runs = 1, 0
+        self._lock = threading.Lock()
         self.reached = threading.Event()
         self._go = threading.Event()
 
-    def arm(self, after=None, at=None):
-        self.after, self.at = after, at
+    def arm(self, after=None, at=None, run=1):
+        with self._lock:
+            self.after, self.at, self.run, self.runs = after, at, run, 0
         self.reached.clear()
         self._go.clear()
 
@@ -63,14 +67,22 @@ class Hold:
         self.after = self.at = None
         self._go.set()
 
-    def due(self, steps, illustration):
+    def started(self):
+        """A worker starts: its number among those started since arming."""
+        with self._lock:
+            self.runs += 1
+            return self.runs
+
+    def due(self, steps, illustration, run):
+        if run != self.run:
+            return False
         return (self.after is not None and steps == self.after) or \
             (self.at is not None and illustration.position() == tuple(self.at))
 
-    def wait(self, steps, illustration, stop):
+    def wait(self, steps, illustration, run, stop):
         """Hold here after the armed step, until released or stopped (once: the hook is
         disarmed as the held worker goes on)."""
-        if not self.due(steps, illustration):
+        if not self.due(steps, illustration, run):
             return
         self.reached.set()
         while not self._go.wait(0.05) and not stop.is_set():
@@ -110,6 +122,7 @@ class Runner:
         self._started = False
 
     def start(self):
+        self._run = HOLD.started()
         _enter()
         try:
             self._thread.start()
@@ -150,14 +163,14 @@ class Runner:
             stage = ill.stage
             going = ill.step()
             self._steps += 1
-            held = HOLD.due(self._steps, ill)
+            held = HOLD.due(self._steps, ill, self._run)
             now = time.monotonic()
             if not going or held or ill.stage != stage or last is None or now - last >= PUBLISH_EVERY:
                 self._publish()
                 last = now
             if not going:
                 return
-            HOLD.wait(self._steps, ill, self._stop)
+            HOLD.wait(self._steps, ill, self._run, self._stop)
 
     def _publish(self):
         res = self.illustration.result()

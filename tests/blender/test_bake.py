@@ -78,6 +78,32 @@ def test_baking_again_replaces_only_its_own_frames(ext, example):
     assert frames.drawn_frames(tree) == {1, 2, 3}
 
 
+def test_the_bake_range_is_the_scenes_or_the_trees_and_clear_removes_frames(ext, example):
+    """Bake and Clear without a range (the sidebar's buttons, the Object menu) take the
+    tree's bake range: the scene's Start and End, or the tree's own."""
+    tree, empty = moving_spheres(example)
+    frames = mod(ext, "operators.frames")
+    sc = bpy.context.scene
+    sc.frame_start, sc.frame_end = 2, 3
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres") == {"FINISHED"}
+    assert frames.drawn_frames(tree) == {2, 3}
+    tree.ink.use_scene_range = False
+    tree.ink.frame_start, tree.ink.frame_end = 5, 6
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres") == {"FINISHED"}
+    assert frames.drawn_frames(tree) == {2, 3, 5, 6}
+    assert frames.spans(frames.drawn_frames(tree)) == "2-3, 5-6"
+    assert bpy.ops.blobtree_ink.clear_frames(tree_name="two_spheres", frame_start=3, frame_end=5) == {"FINISHED"}
+    assert frames.drawn_frames(tree) == {2, 6}
+    obj = bpy.data.objects["two_spheres Ink"]
+    assert all(f.frame_number in (2, 6) for layer in obj.data.layers for f in layer.frames)
+    assert bpy.ops.blobtree_ink.clear_frames(tree_name="two_spheres") == {"FINISHED"}     # the tree's range: 5-6
+    assert frames.drawn_frames(tree) == {2}
+    with pytest.raises(RuntimeError, match="the frame range 9-8 is empty"):
+        bpy.ops.blobtree_ink.clear_frames(tree_name="two_spheres", frame_start=9, frame_end=8)
+    assert frames.drawn_frames(tree) == {2}
+    assert frames.spans({1, 2, 3, 5, 7, 8}) == "1-3, 5, 7-8" and frames.spans({4}) == "4"
+
+
 @pytest.mark.parametrize("start, end, message", [(5, 2, "the frame range 5-2 is empty")])
 def test_a_bad_range_is_named_and_nothing_is_drawn(ext, example, start, end, message):
     moving_spheres(example)

@@ -128,18 +128,25 @@ def test_paper_is_set_up_and_given_back(example):
                                                         sc.view_settings.bl_rna.properties["view_transform"]
                                                         .enum_items] else "Filmic"
     was = sc.view_settings.view_transform
+    for vl in sc.view_layers:
+        vl.use_pass_z = False
     tree = set_up(example)
     assert tree.preview_object.hide_render                           # not in renders by default
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
     assert sc.world.name == "BlobTree Ink Paper" and tuple(sc.world.color) == (1.0, 1.0, 1.0)
     assert sc.view_settings.view_transform == "Standard" and not sc.render.film_transparent
+    assert all(vl.use_pass_z for vl in sc.view_layers)              # Grease Pencil renders without a warning
     assert tree.preview_object.data.materials[0].diffuse_color[:3] == (1.0, 1.0, 1.0)
+    assert bpy.data.objects["pear Ink"].show_in_front                # over the rough preview in the viewport
+    tree.ink.render_preview = True                                   # the mesh renders: its depth must not hide
+    assert not tree.preview_object.hide_render and not any(vl.use_pass_z for vl in sc.view_layers)
+    tree.ink.render_preview = False
+    assert all(vl.use_pass_z for vl in sc.view_layers)
     tree.ink.paper = False                                           # the scene's own look comes back
     assert sc.world == old and sc.view_settings.view_transform == was
+    assert not any(vl.use_pass_z for vl in sc.view_layers)
     assert not tree.preview_object.data.materials or tree.preview_object.data.materials[0] is None or \
         tree.ink.paper is False
-    tree.ink.render_preview = True
-    assert not tree.preview_object.hide_render
 
 
 @pytest.mark.parametrize("engine", ["BLENDER_WORKBENCH", EEVEE])

@@ -50,6 +50,21 @@ def test_the_initialisation_runs_on_the_worker(load_example):
     assert r.latest().done
 
 
+def test_the_hook_holds_the_worker_it_was_armed_for(load_example):
+    """Armed for the second worker started (a bake starts one per frame), the hook lets
+    the first run to its end and holds the second."""
+    RN.HOLD.arm(1, run=2)
+    first = RN.Runner(PL.Illustration(job_for(load_example, "sphere", "outlines", res=8))).start()
+    first.join(120)
+    assert first.latest().done and not RN.HOLD.reached.is_set()
+    second = RN.Runner(PL.Illustration(job_for(load_example, "sphere", "outlines", res=8))).start()
+    assert RN.HOLD.reached.wait(120)
+    assert second.latest().progress.stage == "sampling"
+    RN.HOLD.release()
+    second.join(120)
+    assert second.latest().done
+
+
 def test_stop_keeps_the_outlines_found_so_far_with_their_hidden_lines_removed(load_example):
     full = PL.Illustration(job_for(load_example, "heart", "hatched")).run()
     RN.HOLD.arm(3)                                  # init and two system iterations

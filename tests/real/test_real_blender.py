@@ -310,3 +310,32 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
         P = np.array(view[name], float)
         print(f"viewport {name}: {len(P)} points, darkened by 0.15 or more at "
               f"{np.mean(_darkest(a, P) - _darkest(b, P) >= 0.15):.0%}")
+
+
+def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
+    """Issue #29 in the real UI (tests/real/ui/bake.py): Bake Frames from menu search
+    bakes the scene's range; Esc while frame 3 is under way keeps frames 1 and 2; the
+    whole range baked, the Right arrow steps the timeline and the viewport shows each
+    frame's own drawing; Ctrl+Z undoes a bake as one step (and Ctrl+Shift+Z redoes it);
+    Clear Frames clears them."""
+    out, facts = run_ui_script("bake.py", user_dir, tmp_path)
+    assert "error" not in facts, facts.get("error")
+    assert facts["held_frames"] == [1, 2] and facts["held_state"] == "running"
+    assert facts["stopped_state"] == "stopped" and facts["stopped_frames"] == [1, 2]
+    assert facts["frame_after_stop"] == 1                                   # back where the artist was
+    assert facts["full_state"] == "done" and facts["full_frames"] == [1, 2, 3, 4, 5, 6]
+    right = [facts["silhouette_right"][str(f)] for f in range(1, 7)]
+    assert right == sorted(right) and right[-1] > right[0] + 1.5            # following the Empty
+    assert facts["frames_seen"] == [1, 2, 3, 4, 5, 6]
+    assert facts["frames_after_undo"] == [1, 2] and facts["frames_after_redo"] == [1, 2, 3, 4, 5, 6]
+    assert facts["frames_after_clear"] == []
+    shots = {}
+    for name in ("bake_held.png", "bake_stopped.png", "bake_frame_1.png", "bake_frame_6.png"):
+        shutil.copy(os.path.join(out, name), artifact(name))
+        shots[name] = read_png(artifact(name)).astype(float).mean(axis=2) / 255
+    pts = json.load(open(os.path.join(out, "bake_points.json")))
+    six = np.array(pts["frame6"], float)
+    assert len(six) > 20
+    at6, at1 = _darkest(shots["bake_frame_6.png"], six), _darkest(shots["bake_frame_1.png"], six)
+    # frame 6's silhouette is ink on screen at frame 6; at frame 1 the ball (and its ink) is elsewhere
+    assert np.median(at6) < 0.3 and np.median(at1) - np.median(at6) > 0.2, (np.median(at6), np.median(at1))
