@@ -23,7 +23,7 @@ from .data import Stroke
 from .visibility import split_visible_many, visible
 
 FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
-ISOTROPIC = 0.05        # principal directions count where (k1 - k2) exceeds this share of |k1| + |k2|
+ISOTROPIC = 0.2         # principal directions count where (k1 - k2) exceeds this share of |k1| + |k2|
 # salts of what is decided about a mark (model.keyed)
 SHADE = 1               # whether a mark in the penumbra gets a stroke
 FLOCK = 2               # whether a mark spawns a flock

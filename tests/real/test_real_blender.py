@@ -339,3 +339,25 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     at6, at1 = _darkest(shots["bake_frame_6.png"], six), _darkest(shots["bake_frame_1.png"], six)
     # frame 6's silhouette is ink on screen at frame 6; at frame 1 the ball (and its ink) is elsewhere
     assert np.median(at6) < 0.3 and np.median(at1) - np.median(at6) > 0.2, (np.median(at6), np.median(at1))
+
+
+def test_a_background_animation_render_of_an_example_scene(user_dir, tmp_path):
+    """Issue #29: examples/animation/rigid.py builds a .blend of the heart turning;
+    `blender -b FILE.blend -a` renders each frame with that frame's illustration (the
+    render handler draws it): ink on paper that moves from frame to frame, and the
+    frames' drawings saved in nothing but the render (the file is not written)."""
+    blend = str(tmp_path / "rigid.blend")
+    env = {"BLENDER_USER_RESOURCES": user_dir}
+    blender("-b", "--factory-startup", "--python", os.path.join(REPO, "examples", "animation", "rigid.py"),
+            "--", blend, env=env, timeout=600)
+    p = blender("-b", blend, "-E", "BLENDER_WORKBENCH", "-o", str(tmp_path / "frame_####"), "-F", "PNG",
+                "-s", "1", "-e", "3", "-a", env=env, timeout=900)
+    frames = [read_png(str(tmp_path / f"frame_{f:04d}.png")).astype(float).mean(axis=2) / 255 for f in (1, 2, 3)]
+    for f, img in zip((1, 2, 3), frames):
+        shutil.copy(str(tmp_path / f"frame_{f:04d}.png"), artifact(f"animation_rigid_{f}.png"))
+        ink = img < 0.5
+        assert np.median(img) > 0.97, f"frame {f}: not on white paper"
+        assert 0.002 < ink.mean() < 0.2, f"frame {f}: {ink.mean():.4f} of the image is ink"
+    moved = [np.mean(np.abs((a < 0.5).astype(float) - (b < 0.5))) for a, b in zip(frames, frames[1:])]
+    assert all(m > 0.001 for m in moved), moved                        # each frame its own drawing
+    assert "Traceback" not in p.stdout + p.stderr
