@@ -19,6 +19,7 @@ The session owns its parts and gives each only what it needs: the agent pool
 (agents.pool), the tracing tasks (agents.traces), the explorers (agents.explore), the
 blackboard and the surface queries. What it hands out is a :class:`Sampling` value.
 """
+import copy
 import time
 from dataclasses import dataclass
 
@@ -33,6 +34,8 @@ from ..model.curvature import curvature
 from ..model.tolerances import OUTLINE
 from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
+from .changes import EVERYWHERE
+from .continuation import Continuation, Init, carried, seed_brackets
 from .explore import Explorers
 from .outline import stitch_scales, total_length
 from .pool import AgentPool
@@ -79,7 +82,9 @@ class Settings:
 
 
 class Session:
-    def __init__(self, model, view, settings=None):
+    def __init__(self, model, view, settings=None, previous=None, remember=False):
+        """``previous``: the last frame's session's Continuation, to go on from (see
+        agents.continuation); ``remember``: keep this one's initialisation for the next."""
         self.settings = settings or Settings()
         self.settings.check()
         s = self.settings
@@ -87,23 +92,37 @@ class Session:
         self.view = view
         self.surface = Surface(self.ev, view)
         t0 = time.perf_counter()
-        self.mesh = polygonise(self.ev, int(s.resolution))
-        self.bb, curv = from_mesh(self.mesh, self.ev, self._curvature)
+        self.carried = carried(previous, self.ev.model, view.key(), s)
+        init = self.carried.init
+        if init is not None:                     # the same model: the last frame's polygonisation
+            self.mesh, self.bb, curv = init.mesh, init.board_copy(), init.curvature
+        else:
+            self.mesh = polygonise(self.ev, int(s.resolution))
+            self.bb, curv = from_mesh(self.mesh, self.ev, self._curvature)
+            if remember:
+                init = Init(self.mesh, copy.deepcopy(self.bb), curv, s.resolution)
+        self._init = init if remember else None
         self.vertex_normals = curv["normal"]
         self.vertex_curvature = curv
         feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle)
         for kind in s.kinds:
             pts, a, b = feats[kind]
             self.bb.add_features(pts, a, b, kind)
-        if s.explore_detail:
-            detail.corner_features(self.bb, self.surface, s)
         self.h = self.bb.h
+        changed = self.carried.changed         # where the field changed since the last frame (None: nowhere)
+        if s.explore_detail and changed is not None:           # the flagged voxels' corners where it changed
+            detail.corner_features(self.bb, self.surface, s, None if changed is EVERYWHERE else
+                                   self.bb.surface_rows[self._changed_here(self._voxel_centres(self.bb.surface_rows))])
         self.step_len = s.step * self.h
         self.tol = s.tolerance * self.ev.scale
         self._walls = np.zeros((0, 3))
-        if s.explore_detail:
+        if s.explore_detail and changed is not None:
             self._walls, centres = detail.subtracted_walls(self.surface, self.h, self.ev.model.root)
             detail.subdivide(self.bb, self.surface, s, self._walls, centres)
+        a, b, kinds = seed_brackets(self.carried.seeds, self.h)       # the last frame's outlines as seeds
+        for kind in sorted(set(kinds)):
+            m = np.array(kinds) == kind
+            self.bb.add_features(0.5 * (a[m] + b[m]), a[m], b[m], kind)
         self.priority = manager.priorities(self.bb, np.arange(self.bb.vox.n), s.lod)["priority"]
         self.init_seconds = time.perf_counter() - t0
         self.iteration = 0
@@ -112,9 +131,30 @@ class Session:
         self.traces = Traces(self.surface, self.bb, self.pool, s, self.tol, self.step_len, sites)
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
                                    s.explore_steps)
+        self.traces.add_traced(self.carried.kept)          # the last frame's outlines where nothing changed
         self.requests = []
-        self._detail = None         # flagged voxels queued for exploration, once
+        # flagged voxels queued for exploration, once (none where the field is the last frame's)
+        self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age else None
         self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
+        self._stitched = None       # (state, outlines) of the last stitching
+
+    def _voxel_centres(self, rows):
+        return self.bb.lo + (self.bb.vox["ijk"][rows] + 0.5) * self.h
+
+    def _changed_here(self, P):
+        """Which points lie where the field changed since the last frame (all without one,
+        or when this frame's detail phase looks everywhere: agents.continuation)."""
+        changed = self.carried.changed
+        if changed is EVERYWHERE or self.carried.age == 0:
+            return np.ones(len(P), bool)
+        if changed is None:
+            return np.zeros(len(P), bool)
+        return changed.contains(P, pad=self.h)
+
+    def continuation(self):
+        """What this session leaves the next frame's (agents.continuation)."""
+        return Continuation(self.ev.model, self.view.key(), self.settings, tuple(self.outlines()), self._init,
+                            self.carried.age)
 
     def _curvature(self, P, g):
         return curvature(self.ev, P, g)
@@ -162,7 +202,10 @@ class Session:
         outlines smaller than a grid cell."""
         outlines = [r for k, r in self.requests if k == "OUTLINES"]
         starts = self._explorer_starts() if outlines else None
+        if starts is not None:
+            starts = starts[self._changed_here(starts)]
         self._detail = detail.flagged_voxels(self.bb, self.surface, self.settings)
+        self._detail = self._detail[self._changed_here(self._voxel_centres(self._detail))]
         if not outlines:
             return
         # explorers start on the missed sheets and the subtracted walls first (an
@@ -171,12 +214,10 @@ class Session:
             self.explorers.enqueue_starts(starts, region)
         if "silhouette" in self.settings.kinds:
             seeds_beside_silhouettes(self.outlines(), self.surface, self.bb, self.traces.traced, self.step_len,
-                                     self.settings.crease_angle, self._in_regions)
+                                     self.settings.crease_angle, lambda P: self._in_regions(P) & self._changed_here(P))
         if len(self._detail) == 0:
             return
-        v = self.bb.vox
-        centres = self.bb.lo + (v["ijk"][self._detail] + 0.5) * self.h
-        rows = self._detail[self._in_regions(centres)]
+        rows = self._detail[self._in_regions(self._voxel_centres(self._detail))]
         pts = self.traces.traced.points()
         if len(pts):
             covered = self.bb.voxel_rows(self.bb.voxel_of(pts), create=False)
@@ -280,11 +321,17 @@ class Session:
 
     # --- results ----------------------------------------------------------------------
     def outlines(self, include_active=True):
-        """Feature outlines found so far, fragments stitched into whole polylines."""
+        """Feature outlines found so far, fragments stitched into whole polylines (once
+        per state: a finished session's are stitched once)."""
+        state = (self.iteration, len(self.traces.done), len(self.traces), include_active)
+        if self._stitched is not None and self._stitched[0] == state:
+            return list(self._stitched[1])
         out = list(self.traces.done)
         if include_active:
             out += self.traces.active_outlines()
-        return stitch_scales(out)
+        out = stitch_scales(out)
+        self._stitched = (state, tuple(out))
+        return out
 
     def progress(self, outlines=None):
         """Progress figures; ``outlines``: this session's :meth:`outlines` if the caller

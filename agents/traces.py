@@ -31,6 +31,7 @@ SHORTEST = 1.0 / 16     # a failed step is retried halved down to this fraction 
 CLOSE = 0.75            # a trace is back at its seed within this many full steps of it
 
 _V = ((3,), float)
+KEPT = -1000            # outline ids of the outlines kept from the last frame: KEPT, KEPT - 1, ...
 RETRY, KEEP, TURN, END, CLOSED = range(5)        # a task's fate after a step
 
 
@@ -62,6 +63,25 @@ class Traces:
         return len(self.table)
 
     # --- starting ---------------------------------------------------------------------
+    def add_traced(self, outlines):
+        """Outlines traced already (the last frame's, where nothing changed): they count
+        as traced (no seed starts a trace on them, a trace stops where it meets them,
+        the blackboard's seeds of silhouettes and curvature-sign lines their points cross
+        are taken) and are among the results as they are."""
+        for k, o in enumerate(outlines):
+            P, n = np.asarray(o.points, float), np.asarray(o.normals, float)
+            if not len(P):
+                continue
+            kind = KIND_ID[o.kind]
+            step = o.step or self.step_len
+            self.traced.add(kind, P, KEPT - k, np.arange(len(P)), n, step)
+            self.done.append(o)
+            if o.kind != "crease" and len(P) > 1:
+                W = np.cross(n, np.gradient(P, axis=0))
+                W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
+                consume_crossed(self.board, self.surface, self.settings.crease_angle, np.full(len(P), kind), P, n,
+                                W, np.full(len(P), step))
+
     def start(self, ids, iteration):
         """Refine the seeds ``ids`` (taken from the blackboard) and start a task on each
         valid one that no traced outline passes."""

@@ -21,10 +21,24 @@ NONE = -1                  # no primitive reaches the point
 
 @dataclass(frozen=True)
 class Placed:
-    """A primitive of the tree (model.nodes) and the warps from its coordinates to the
-    model's (innermost first)."""
+    """A primitive of the tree (model.nodes), the warps from its coordinates to the
+    model's (innermost first) and its support box in its own coordinates."""
     node: object
     warps: tuple
+    lo: np.ndarray
+    hi: np.ndarray
+
+    def same(self, other):
+        """The same primitive in the same place."""
+        return self.node == other.node and len(self.warps) == len(other.warps) and \
+            all(a.same(b) for a, b in zip(self.warps, other.warps))
+
+    def box(self):
+        """A box of the model's coordinates outside which the primitive's field is 0."""
+        lo, hi = self.lo, self.hi
+        for w in self.warps:
+            lo, hi = w.image(lo, hi)
+        return lo, hi
 
     def to_model(self, Q):
         """Points Q (n, 3) of the primitive's coordinates in the model's."""
@@ -32,6 +46,13 @@ class Placed:
         for w in self.warps:
             P = w.from_child(P)
         return P.T
+
+    def to_local(self, P):
+        """Points P (n, 3) of the model in the primitive's own coordinates."""
+        Q = np.ascontiguousarray(np.asarray(P, float).T)
+        for w in reversed(self.warps):
+            Q, _ = w.to_child(Q, False)
+        return Q.T
 
     def area_scale(self):
         """How the warps scale the primitive's areas (approximately, where they bend)."""
@@ -60,7 +81,7 @@ class Owners:
             node, warps = todo.pop()
             if isinstance(node, Group):
                 self._index[id(node)] = len(self.placed)
-                self.placed.append(Placed(node.sources[0], warps))
+                self.placed.append(Placed(node.sources[0], warps, node.lo, node.hi))
             elif isinstance(node, Warp):
                 todo.append((node.child, (node,) + warps))
             else:

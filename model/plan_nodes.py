@@ -24,16 +24,24 @@ class Op:
 class Warp:
     def __init__(self, kind, child, **params):
         self.kind, self.child, self.params = kind, child, params
-        lo, hi = child.lo, child.hi
-        if kind == "affine":
-            self.lo, self.hi = W.affine_bounds(lo, hi, params["L"], params["t"])
-        elif kind == "twist":
-            self.lo, self.hi = W.twist_bounds(lo, hi, params["rate"])
-        elif kind == "taper":
-            self.lo, self.hi = W.taper_bounds(lo, hi, params["rate"])
-        else:
-            self.lo, self.hi = W.bend_bounds(lo, hi, params["rate"])
+        self.lo, self.hi = self.image(child.lo, child.hi)
         self.vlo, self.vhi = child.vlo, child.vhi
+
+    def image(self, lo, hi):
+        """A box holding where the box (lo, hi) of the child's coordinates lands."""
+        p = self.params
+        if self.kind == "affine":
+            return W.affine_bounds(lo, hi, p["L"], p["t"])
+        if self.kind == "twist":
+            return W.twist_bounds(lo, hi, p["rate"])
+        if self.kind == "taper":
+            return W.taper_bounds(lo, hi, p["rate"])
+        return W.bend_bounds(lo, hi, p["rate"])
+
+    def same(self, other):
+        """The same warp (kind and parameters)."""
+        return self.kind == other.kind and self.params.keys() == other.params.keys() and \
+            all(np.array_equal(self.params[k], other.params[k]) for k in self.params)
 
     def __repr__(self):
         return f"Warp({self.kind})"

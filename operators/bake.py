@@ -1,6 +1,8 @@
 """Bake: a tree illustrated at every frame of a range, each frame's drawing a Grease
 Pencil keyframe of its ink's layers (ordinary, editable Grease Pencil), through the
-one illustration pipeline. In the UI each frame's pipeline runs on a worker thread
+one illustration pipeline, each frame going on from the last (pipeline.continuation:
+where the model and the view stay, what was found is kept). In the UI each frame's
+pipeline runs on a worker thread
 while the timer shows the progress; Esc keeps the frames finished so far. In
 background mode and from scripts it runs to the end in `execute`. The whole bake is
 one undo step; baking again replaces only the frames and layers it makes. A frame that
@@ -51,6 +53,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         self.scene = context.scene
         self.frame_was = self.scene.frame_current
         self.done = []
+        self.previous = None              # what the last frame's illustration left this one's
         last_bake.clear()
         last_bake.update(state="running", frames=[], tree=self.tree_key)
 
@@ -93,7 +96,9 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         for frame in self.frames:
             try:
                 job, _ = self._job(frame)
-                result = PL.Illustration(job).run()
+                ill = PL.Illustration(job, previous=self.previous, remember=True)
+                result = ill.run()
+                self.previous = ill.continuation()
             except ERRORS as e:
                 error = e if isinstance(e, FR.FrameError) else FR.FrameError(f"frame {frame}: {e}")
                 return self._finish("failed", error)
@@ -121,7 +126,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
     def _next_frame(self):
         self.frame = self.frames[len(self.done)]
         job, _ = self._job(self.frame)
-        self.runner = PL.Runner(PL.Illustration(job)).start()
+        self.runner = PL.Runner(PL.Illustration(job, previous=self.previous, remember=True)).start()
 
     def modal(self, context, event):
         if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
@@ -137,6 +142,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         except PL.RunnerError as e:
             return self._end(context, "failed", e)
         self._write(self.frame, self.runner.latest())
+        self.previous = self.runner.illustration.continuation()
         if len(self.done) == len(self.frames):
             return self._end(context, "done")
         try:

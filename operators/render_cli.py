@@ -136,6 +136,7 @@ def render_scene(spec, log):
     name = re.sub(r"[^A-Za-z0-9_.-]+", "_", tree.name) or "tree"
     followed = FR.followed_objects(tree)
     t0 = time.perf_counter()
+    previous = None                   # each frame goes on from the last (pipeline.continuation)
     try:
         os.makedirs(spec.out, exist_ok=True)
         for frame in FR.frame_range(first, last):
@@ -145,7 +146,9 @@ def render_scene(spec, log):
             FR.check_followed(tree, followed, frame)
             try:
                 job, _ = FR.frame_job(tree, sc)
-                result = PL.Illustration(job).run()
+                ill = PL.Illustration(job, previous=previous, remember=True)
+                result = ill.run()
+                previous = ill.continuation()
             except (TreeError, DriverError, PL.JobError, PL.NothingToDraw) as e:
                 raise CliError(f"frame {frame}: {e}") from None
             obj = FR.write_frame(tree, result, frame)

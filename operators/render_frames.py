@@ -17,6 +17,7 @@ from . import frames as FR
 from .common import blobtrees, ink_name
 
 _rendering = []                # a render is under way (between its init and its end)
+_previous = {}                 # tree name -> what its last rendered frame left the next (during a render)
 drawn = []                     # (tree, frame) drawn by renders in this session (for tests and the console)
 
 
@@ -31,7 +32,9 @@ def illustrate(scene, depsgraph=None):
             continue
         try:
             job, _ = FR.frame_job(tree, scene, depsgraph)
-            result = PL.Illustration(job).run()
+            ill = PL.Illustration(job, previous=_previous.get(tree.name), remember=True)
+            result = ill.run()
+            _previous[tree.name] = ill.continuation()
         except (TreeError, DriverError, PL.JobError, PL.NothingToDraw, ValueError) as e:
             print(f"BlobTree Ink: frame {frame} of '{tree.name}' not illustrated: {e}")
             continue
@@ -44,11 +47,13 @@ def illustrate(scene, depsgraph=None):
 @bpy.app.handlers.persistent
 def _render_init(*_args):
     _rendering[:] = [True]
+    _previous.clear()
 
 
 @bpy.app.handlers.persistent
 def _render_end(*_args):
     _rendering.clear()
+    _previous.clear()
 
 
 @bpy.app.handlers.persistent

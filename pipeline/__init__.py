@@ -1,6 +1,7 @@
 """The one illustration pipeline (pure, numpy only): a job in, plain strokes by layer
 out, through a resumable stepper that every path drives (the modal and background
 operators and the command line)."""
+from .continuation import Continuation  # noqa: F401
 from .framing import NothingToDraw, bounds, default_light, line_radius, three_quarter_eye  # noqa: F401
 from .illustration import Illustration, Progress, Result  # noqa: F401
 from .job import (FIND_FEATURES, OUTLINES, PLACE_STROKES, REQUESTS, SINGLE_STROKE, Around, Job, JobError,  # noqa: F401

@@ -29,6 +29,7 @@ from ..model import Evaluator
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from . import layers as LY
+from .continuation import Continuation
 from .framing import bounds, default_light, line_radius, stroke_unit, three_quarter_eye
 from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
 
@@ -71,8 +72,11 @@ class Result:
 
 
 class Illustration:
-    def __init__(self, job):
+    def __init__(self, job, previous=None, remember=False):
+        """``previous``: the last frame's Continuation (pipeline.continuation), to go on
+        from; ``remember``: keep what the next frame's can take (:meth:`continuation`)."""
         self.job = job.checked()
+        self.previous, self.remember = previous, remember
         self.ev = None                 # the compiled model, the eye, the light and the requests'
         self.eye = self.light = None   # regions: made at the initialisation (on a runner's worker)
         self.requests = self.job.requests
@@ -94,7 +98,6 @@ class Illustration:
         self.completed = []            # the stages done (a stop skips the rest)
         self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
         self._rng = None                   # ... and the chains' random generator
-        self._mark_sets = {}               # layer -> its marks (model.marks)
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -174,7 +177,13 @@ class Illustration:
 
     def _init(self):
         j = self.job
-        self.ev = j.model if isinstance(j.model, Evaluator) else Evaluator(j.model)
+        prev = self.previous
+        if isinstance(j.model, Evaluator):
+            self.ev = j.model
+        elif prev is not None and prev.ev.model == j.model:
+            self.ev = prev.ev                  # the last frame's model: its plan, size and marks as made
+        else:
+            self.ev = Evaluator(j.model)
         centre, radius = bounds(self.ev)
         self.eye = np.asarray(j.view.eye if j.view is not None else three_quarter_eye(centre, radius), float)
         if j.light is not None:
@@ -189,7 +198,8 @@ class Illustration:
         self.line_radius = line_radius(self.ev)
         self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius,
                                 stroke_unit(self.ev, j.settings.resolution))
-        self.session = Session(self.ev, View(eye=self.eye), j.settings)
+        self.session = Session(self.ev, View(eye=self.eye), j.settings,
+                               previous=prev.session if prev is not None else None, remember=self.remember)
         self._check_regions(self.session.snapshot(stitch=False).vertices)
         if j.wants_outlines():
             for r in self.requests:
@@ -240,11 +250,27 @@ class Illustration:
         """The region of the PLACE_STROKES request (None: the whole model, or none)."""
         return next((r.region for r in self.requests if r.kind == PLACE_STROKES), None)
 
+    def marks(self, layer):
+        """The marks a stroke layer ("hatching", "short", "stipples") starts from, made
+        once per illustration (after its initialisation): a stroke's ``mark`` is one of
+        their keys (a flock's members' and the cross-hatching's are derived from them)."""
+        return self._marks(layer)
+
     def _marks(self, layer):
-        """The marks a stroke layer starts from, made once per illustration."""
-        if layer not in self._mark_sets:
-            self._mark_sets[layer] = LY.marks_of(self.canvas, layer, owners(self.ev), self.job.seed)
-        return self._mark_sets[layer]
+        """The marks a stroke layer starts from, made once per model (kept with its
+        evaluator: the next frame's takes them where its model is the same)."""
+        key = ("marks", layer, self.job.seed, self.canvas.unit)
+        if key not in self.ev.memo:
+            self.ev.memo[key] = LY.marks_of(self.canvas, layer, owners(self.ev), self.job.seed)
+        return self.ev.memo[key]
+
+    def continuation(self):
+        """What this illustration leaves the next frame's (pipeline.continuation), once it
+        ran to its end (None before, or after a stop)."""
+        if not self.finished or self.stopping or self.ev is None:
+            return None
+        traced = "sampling" in self.completed and self.session is not None
+        return Continuation(self.ev, self.session.continuation() if traced else None)
 
     def _stroke_layer(self, layer, parts, draw, marks=None, **kw):
         """One part of a stroke layer per step (the parts listed at the layer's first

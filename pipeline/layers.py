@@ -73,6 +73,17 @@ def _chunks(n, size):
     return [slice(a, a + size) for a in range(0, n, size)] or [slice(0, 0)]
 
 
+def _kept(cv, region, field, *rules):
+    """The smarticles' paths kept with the model for one layer's rules (strokes.smarticles.
+    run_kept): a path depends on the model, its mark and the rules alone, so a frame whose
+    model is the last frame's takes them as they are (the light and the eye then decide
+    which are drawn, where they are cut and what is hidden). None where a path depends on
+    more: a request's region, or a flow field that looks at the eye."""
+    if region is not None or field == "contour":
+        return None
+    return cv.ev.memo.setdefault(("paths",) + rules, {})
+
+
 def _common(cv, st, region):
     return dict(radius=0.6 * cv.radius(st), region=region, contrast=st.contrast, weights=st.resolved_weights())
 
@@ -92,13 +103,17 @@ def hatching(cv, sampling, st, region, part, cross=False):
     kw = _common(cv, st, region)
     rules = sm.StrokeRules(max_steps=st.hatch_steps, region=region, stop_on_curvature_sign=st.surface != "all")
     step = STEP * cv.unit
+    field = st.cross_field if cross else st.hatch_field
+    paths = _kept(cv, region, field, "hatching", cross, field, tuple(st.hatch_axis), st.hatch_steps,
+                  tuple(sorted(kw["weights"].items())), st.flock_size, st.surface != "all", step)
     if not cross:
-        return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=st.hatch_field, axis=st.hatch_axis,
-                          lower=st.shade_lower, upper=st.shade_upper, rules=rules, flock_size=st.flock_size, **kw)
+        return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=field, axis=st.hatch_axis,
+                          lower=st.shade_lower, upper=st.shade_upper, rules=rules, flock_size=st.flock_size,
+                          paths=paths, **kw)
     up = 0.5 * (st.shade_lower + st.shade_upper)
-    return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=st.cross_field, axis=st.hatch_axis,
+    return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=field, axis=st.hatch_axis,
                       lower=0.4 * st.shade_lower, upper=up, rules=rules, flock_size=st.flock_size, salt=1,
-                      **dict(kw, radius=0.5 * cv.radius(st)))
+                      paths=paths, **dict(kw, radius=0.5 * cv.radius(st)))
 
 
 def chains_parts(cv, sampling, marks, st, region):
@@ -121,16 +136,19 @@ def chains(cv, sampling, st, region, part, rng):
 
 def short(cv, sampling, st, region, part):
     """Short strokes through a part's marks."""
+    kw = _common(cv, st, region)
+    paths = _kept(cv, region, st.hatch_field, "short", st.hatch_field, tuple(st.hatch_axis),
+                  tuple(sorted(kw["weights"].items())), STEP * cv.unit)
     return L.short_strokes(cv.ev, part, cv.eye, cv.light, STEP * cv.unit, field=st.hatch_field,
-                           axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05,
-                           **_common(cv, st, region))
+                           axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05, paths=paths, **kw)
 
 
 def stipples(cv, sampling, st, region, part):
     """Stipples from a part's wandering smarticles."""
-    return L.stipples(cv.ev, part, cv.eye, cv.light, 0.5 * STEP * cv.unit, every=st.stipple_every,
+    step = 0.5 * STEP * cv.unit
+    return L.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * cv.radius(st),
-                      region=region, contrast=st.contrast)
+                      region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step))
 
 
 def single_stroke(cv, st, point, seed=0):

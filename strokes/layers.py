@@ -126,11 +126,12 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
 
 
 def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.25, upper=0.6, weights=None,
-             rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0):
+             rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0, paths=None):
     """Hatching strokes from the marks (model.marks) that fall in shade, following a
     flow field, each heading the way its mark's reference direction says; with
     ``flock_size`` > 1 one mark in flock_size (by its key) spawns a flock, so the
-    density stays alike. ``salt``: another layer's choices (cross-hatching)."""
+    density stays alike. ``salt``: another layer's choices (cross-hatching); ``paths``:
+    the smarticles' paths kept for these rules (smarticles.run_kept)."""
     lit = lighting(marks.normals, light)
     pick = chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))
     if flock_size > 1:
@@ -141,7 +142,8 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
     H = headings(ev, m.points, field, m.ref, axis, eye)
     own = m.keys if salt == 0 else keyed.combine(m.keys, salt)      # cross-hatching's strokes are others
     P, H, flock, keys = spawn_flocks(m.points, m.normals, H, flock_size, 1.5 * step, own)
-    res = sm.run(ev, P, flow, step, weights or sm.PRESETS["hatching"], rules, keys, flock=flock, headings=H)
+    res = sm.run_kept(paths, ev, P, flow, step, weights or sm.PRESETS["hatching"], rules, keys, flock=flock,
+                      headings=H)
     return shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
 
 
@@ -198,10 +200,11 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
 
 
 def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), steps=3, lower=0.3, upper=0.65,
-                  weights=None, radius=0.003, region=None, contrast=1.0):
+                  weights=None, radius=0.003, region=None, contrast=1.0, paths=None):
     """Short general strokes centred on the marks (MASSRIS 7 centres them on polygons):
     from each chosen mark a smarticle goes ``steps`` steps each way along the flow
-    field; the two halves make one stroke through the mark."""
+    field; the two halves make one stroke through the mark (``paths``: as for
+    :func:`hatching`)."""
     lit = lighting(marks.normals, light)
     m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
     if len(m) == 0:
@@ -211,8 +214,8 @@ def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), ste
                            region=region)
     w = weights or sm.PRESETS["hatching"]
     H = headings(ev, m.points, field, m.ref, axis, eye)
-    fwd = sm.run(ev, m.points, flow, step, w, rules, m.keys, headings=H)
-    bwd = sm.run(ev, m.points, flow, step, w, rules, keyed.combine(m.keys, BACKWARDS), headings=-H)
+    fwd = sm.run_kept(paths, ev, m.points, flow, step, w, rules, m.keys, headings=H)
+    bwd = sm.run_kept(paths, ev, m.points, flow, step, w, rules, keyed.combine(m.keys, BACKWARDS), headings=-H)
     whole = sm.Run()
     for pf, nf, pb, nb in zip(fwd.paths, fwd.normals, bwd.paths, bwd.normals):
         whole.paths.append(np.vstack([pb[:0:-1], pf]))
@@ -221,9 +224,10 @@ def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), ste
 
 
 def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
-             region=None, contrast=1.0):
+             region=None, contrast=1.0, paths=None):
     """One-point strokes at every ``every``-th step of wandering smarticles started at
-    the marks in shade; each dot's mark is its smarticle's key and step."""
+    the marks in shade; each dot's mark is its smarticle's key and step (``paths``: as
+    for :func:`hatching`)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")
@@ -231,8 +235,8 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
     rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False,
                            region=region)
-    res = sm.run(ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, m.keys,
-                 headings=headings(ev, m.points, "dir1", m.ref))
+    res = sm.run_kept(paths, ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, m.keys,
+                      headings=headings(ev, m.points, "dir1", m.ref))
     if not res.paths:
         return []
     D = np.concatenate([p[::every] for p in res.paths])

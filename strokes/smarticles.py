@@ -156,6 +156,34 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
     return out
 
 
+def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flock=None, headings=None):
+    """:func:`run`, with the paths of the keys found in ``paths`` (a dict key -> (path,
+    normals, reason), or None) taken from it and the others run and put in it: a
+    smarticle's path depends on its key, its start and heading and the model alone for
+    flow fields that do not look at the eye (the caller keeps such a dict per model and
+    per set of rules). A flock's members are all kept or all run (their keys come and go
+    together)."""
+    if paths is None:
+        return run(ev, starts, direction_field, step, weights, rules, keys, flock=flock, headings=headings)
+    keys = np.asarray(keys, np.uint64)
+    ids = keys.tolist()
+    todo = np.array([k not in paths for k in ids], bool)
+    if todo.any():
+        P = np.asarray(starts, float).reshape(-1, 3)
+        got = run(ev, P[todo], direction_field, step, weights, rules, keys[todo],
+                  flock=None if flock is None else np.asarray(flock)[todo],
+                  headings=None if headings is None else np.asarray(headings, float)[todo])
+        for k, p, n, r in zip(keys[todo].tolist(), got.paths, got.normals, got.reasons):
+            paths[k] = (p, n, r)
+    out = Run()
+    for k in ids:
+        p, n, r = paths[k]
+        out.paths.append(p)
+        out.normals.append(n)
+        out.reasons.append(r)
+    return out
+
+
 WANDER = 7              # the salt of the wander's noise (model.keyed)
 CARRIED = ("mean", "k1", "k2", "dir1", "dir2")      # the curvature a flow field may read
 

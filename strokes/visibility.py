@@ -2,11 +2,18 @@
 
 A point is visible when the segment from it to the eye does not enter the solid
 (f >= iso). Segments are marched in one batch: each starts a small offset off the
-surface towards the eye, is clipped to the model's support box (outside it the field
-is 0), and is sampled at a fixed fraction of the model's size. Strokes are split where
+surface towards the eye, is clipped to the surface's box (blackboard.polygonise.
+surface_box: outside it the field stays below iso), and is sampled at a fixed fraction
+of the model's size. Strokes are split where
 visibility changes and the hidden parts dropped.
 """
 import numpy as np
+
+from ..blackboard.polygonise import surface_box
+
+
+MARCH_BATCH = 4096          # points a ray-march call aims at
+MAX_AHEAD = 32              # samples of one ray a call takes at most
 
 
 def _clip(O, D, lo, hi):
@@ -37,24 +44,25 @@ def visible(ev, P, eye, normals=None, step=None, offset=None):
     if normals is not None:
         start = start + 0.5 * offset * np.asarray(normals)
     D = eye - start
-    lo, hi = ev.bounds
+    box = surface_box(ev)                           # where f >= iso can be (else the support's)
+    lo, hi = box if box is not None else ev.bounds
     t0, t1 = _clip(start, D, lo, hi)
     vis = np.ones(len(P), bool)
     live = np.flatnonzero(t1 > t0)
     length = np.linalg.norm(D, axis=1)
     k = 0
     while len(live):
-        t = t0[live] + (k * step) / length[live]
-        going = t <= t1[live]
-        live = live[going]
-        if len(live) == 0:
-            break
-        t = t[going]
-        f = ev.field(start[live] + t[:, None] * D[live])
-        hit = f >= ev.iso
-        vis[live[hit]] = False
-        live = live[~hit]
-        k += 1
+        # the samples k, k+1, ... of each ray still marching, as many per ray as keep a
+        # batch near MARCH_BATCH points (a call's cost is mostly its own: the last few
+        # rays take their remaining samples in a few calls, not one call per sample)
+        b = int(np.clip(MARCH_BATCH // len(live), 1, MAX_AHEAD))
+        t = t0[live, None] + ((k + np.arange(b))[None, :] * step) / length[live, None]      # (m, b)
+        inside = t <= t1[live, None]
+        f = ev.field((start[live, None, :] + t[:, :, None] * D[live, None, :]).reshape(-1, 3)).reshape(t.shape)
+        hit = (f >= ev.iso) & inside
+        vis[live[hit.any(axis=1)]] = False
+        live = live[~hit.any(axis=1) & inside[:, -1]]
+        k += b
     return vis
 
 

@@ -45,6 +45,11 @@ def empty_scene():
         bpy.data.objects.remove(obj)
 
 
+def example(name):
+    """A bundled model's blobtree-1 document."""
+    return json.load(open(os.path.join(REPO, "examples", f"{name}.json")))
+
+
 def import_model(doc):
     """A BlobTree node tree (with its preview) from a blobtree-1 document."""
     path = os.path.join(tempfile.mkdtemp(), f"{doc['name']}.json")

@@ -155,3 +155,11 @@ def test_keyed_numbers_belong_to_their_keys():
     assert np.corrcoef(u, keyed.uniform(keys, 6))[0, 1] < 0.02              # another salt, other numbers
     z = keyed.normal(keys, 1, count=3)
     assert z.shape == (20000, 3) and abs(z.mean()) < 0.02 and abs(z.std() - 1) < 0.02
+
+
+def test_a_primitive_takes_model_points_to_its_own_coordinates_and_back():
+    model = model_of({"type": "bend", "rate": 0.4, "child": {"type": "transform", "rotate": [0.2, 0.1, 0.3],
+                                                             "translate": [0.3, 0, 0], "child": point()}})
+    placed = Owners(model).placed[0]
+    Q = np.random.default_rng(1).uniform(-0.5, 0.5, size=(50, 3))
+    assert np.abs(placed.to_local(placed.to_model(Q)) - Q).max() < 1e-12

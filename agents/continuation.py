@@ -1,0 +1,140 @@
+"""A session that goes on from the last frame's (the future work of MASSRIS: agents that
+re-sample only where the surface changes over time).
+
+A finished session leaves a :class:`Continuation`: its model, view and settings, its
+outlines, and the field-only part of its initialisation (the rough polygonisation and
+the blackboard it filled, before any feature point), which the next frame's session
+takes as it is where the model is the same. The next session (:func:`carried`):
+
+- keeps as traced the last frame's outlines outside the parts of space where the field
+  changed (agents.changes): the creases and curvature-sign lines there, and the
+  silhouettes too where the eye stayed where it was;
+- seeds the silhouettes there from the last frame's points when the eye moved: every
+  SEED_EVERY-th point brackets across the outline, BRACKETS cells to either side,
+  refined onto this frame's outline as the polygon edges' seeds are (an outline that
+  moved further is found from the polygon edges, as in a first frame);
+- looks afresh where the field changed, as in a first frame (everything when the
+  tree's shape changed);
+- looks for the features smaller than a cell (the detail phase) only where the field
+  changed (the last frame's small outlines elsewhere are among its seeds), but in every
+  REFRESH-th frame everywhere: a small silhouette that a moving eye brings into view is
+  found within REFRESH frames.
+"""
+import copy
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .changes import EVERYWHERE, changed
+from .outline import Outline
+
+SEED_EVERY = 3           # points of a last frame's outline from one seed to the next
+BRACKETS = (0.08, 0.3)   # a seed's brackets reach these many cells to either side of the outline: a
+                         # wider one holds an outline that moved further, a narrower one a smaller
+                         # one (a bracket over a bend of more than half the crease angle is refused)
+REFRESH = 8              # every REFRESH-th frame going on from the last looks for small features everywhere
+# settings under which a last frame's outlines are this frame's (the grid may differ)
+SAME_OUTLINES = ("kinds", "crease_angle", "tolerance", "step", "subdivide", "explore_detail")
+
+
+@dataclass(frozen=True)
+class Init:
+    """The field-only part of a session's initialisation: the rough polygonisation, the
+    blackboard it filled (never changed: a session works on its own copy), the vertices'
+    curvature and the grid resolution."""
+    mesh: object
+    board: object
+    curvature: dict
+    resolution: int
+
+    def board_copy(self):
+        return copy.deepcopy(self.board)
+
+
+@dataclass(frozen=True)
+class Continuation:
+    """What a finished session leaves the next frame's."""
+    model: object                  # model.nodes.Model
+    view: tuple                    # blackboard.view.View.key(): where the eye was
+    settings: object               # agents.session.Settings
+    outlines: tuple                # agents.outline.Outline, stitched
+    init: Init = None
+    age: int = 0                   # frames since a session looked for small features everywhere
+
+
+@dataclass
+class Carried:
+    """What a session takes from the last frame's: its initialisation (or None), the
+    outlines it keeps as traced, those it seeds from, and where the field changed
+    (None: nowhere; EVERYWHERE; or agents.changes.Boxes)."""
+    init: object = None
+    kept: list = field(default_factory=list)
+    seeds: list = field(default_factory=list)
+    changed: object = EVERYWHERE
+    age: int = 0                   # frames since the detail phase last looked everywhere (0: this one does)
+
+
+def carried(previous, model, view, settings):
+    """What a session of ``model`` seen in ``view`` (its key) takes from ``previous`` (a
+    Continuation or None: then nothing, and everything counts as changed)."""
+    if previous is None or any(getattr(previous.settings, k) != getattr(settings, k) for k in SAME_OUTLINES):
+        return Carried()
+    region = changed(previous.model, model)
+    same_eye = previous.view == view
+    init = previous.init if region is None and previous.init is not None and \
+        previous.init.resolution == settings.resolution else None
+    age = previous.age + 1
+    out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age)
+    if region is EVERYWHERE:
+        return out                      # as from scratch
+    for o in previous.outlines:
+        inside = np.zeros(len(o.points), bool) if region is None else region.contains(o.points)
+        # where the field changed, the agents look afresh (polygon edges, the detail phase);
+        # elsewhere what did not move is kept and the silhouettes of a moved eye seeded
+        kept = out.kept if o.kind != "silhouette" or same_eye else out.seeds
+        if not inside.any():
+            kept.append(o)
+            continue
+        for a, b, outside in _runs(~inside, o.closed):
+            if outside:
+                rows = np.arange(a, b) % len(o.points)
+                kept.append(Outline(o.kind, o.points[rows], o.normals[rows], False, o.step))
+    return out
+
+
+def _runs(keep, closed):
+    """(start, end, value) runs of a boolean array; a closed outline's last run and first
+    run join when they have the same value (rolled: indices may pass the end)."""
+    n = len(keep)
+    edges = np.flatnonzero(keep[1:] != keep[:-1]) + 1
+    starts = np.r_[0, edges]
+    ends = np.r_[edges, n]
+    runs = [(int(a), int(b), bool(keep[a])) for a, b in zip(starts, ends)]
+    if closed and len(runs) > 1 and runs[0][2] == runs[-1][2]:
+        a, _, v = runs.pop()
+        first = runs.pop(0)
+        runs.append((a, n + first[1], v))
+    return [(a, b, v) for a, b, v in runs]
+
+
+def seed_brackets(outlines, h):
+    """Brackets (a, b) and kinds of seeds along outlines: every SEED_EVERY-th point,
+    segments across the outline in its tangent plane, BRACKETS * h to either side."""
+    A, B, K = [], [], []
+    for o in outlines:
+        P, N = np.asarray(o.points, float), np.asarray(o.normals, float)
+        if len(P) < 2:
+            continue
+        T = np.gradient(np.vstack([P[-1:], P, P[:1]]) if o.closed else P, axis=0)
+        T = T[1:-1] if o.closed else T
+        W = np.cross(N, T)
+        W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
+        sel = slice(SEED_EVERY // 2, len(P), SEED_EVERY)
+        for width in BRACKETS:
+            d = width * h * W[sel]
+            A.append(P[sel] - d)
+            B.append(P[sel] + d)
+            K += [o.kind] * len(d)
+    if not A:
+        return np.zeros((0, 3)), np.zeros((0, 3)), []
+    return np.concatenate(A), np.concatenate(B), K

@@ -1,0 +1,12 @@
+"""What one frame's illustration leaves the next frame's (Illustration(job,
+previous=...)): its compiled model, which the next frame takes as it is where its model
+is the same (with what it made: its plan, its surface's size, its marks), and its
+sampling session's continuation (agents.continuation: the outlines where nothing
+changed are kept, the others seeded from the last frame's)."""
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Continuation:
+    ev: object                  # model.Evaluator
+    session: object = None      # agents.continuation.Continuation (None: the frame traced no outlines)
