@@ -89,3 +89,31 @@ def test_the_preview_follows_a_driving_empty_across_a_frame_change(ext, example)
     empty.location.y = 1.0                                        # dragging it (no frame change)
     bpy.context.view_layer.update()
     assert tree.name in changes.pending()
+
+
+def test_exporting_writes_the_model_as_it_is_at_the_current_frame(ext, example, tmp_path):
+    """A keyed radius and a centre that follows a keyed Empty: the JSON exported at a
+    frame holds that frame's values."""
+    import json
+    tree, a, b = two_spheres(example)
+    sc = bpy.context.scene
+    a.radius = 1.0
+    a.keyframe_insert("radius", frame=1)
+    a.radius = 3.0
+    a.keyframe_insert("radius", frame=21)
+    empty = bpy.data.objects.new("Driver", None)
+    sc.collection.objects.link(empty)
+    b.center_object = empty
+    empty.location = (0.0, 0.0, 0.0)
+    empty.keyframe_insert("location", frame=1)
+    empty.location = (4.0, 0.0, 0.0)
+    empty.keyframe_insert("location", frame=21)
+    for frame in (1, 11, 21):
+        sc.frame_set(frame)
+        out = tmp_path / f"at_{frame}.json"
+        assert bpy.ops.blobtree_ink.export_json(filepath=str(out), tree_name=tree.name) == {"FINISHED"}
+        root = json.loads(out.read_text())["root"]
+        radius, centre = root["children"][0]["radius"], root["children"][1]["center"]
+        want_r = {1: 1.0, 11: 2.0, 21: 3.0}[frame]
+        want_x = {1: 0.0, 11: 2.0, 21: 4.0}[frame]
+        assert radius == pytest.approx(want_r, abs=1e-5) and centre[0] == pytest.approx(want_x, abs=1e-5), frame

@@ -125,3 +125,38 @@ def test_outlines_keep_their_direction_and_start():
     for pts in (line, line[::-1]):
         P = pts[ST.canonical(pts, False, eye)]
         assert P[0][0] == -1 and P[-1][0] == 1                            # left to right in the view
+
+
+def test_no_pop_where_one_chunk_of_frames_ends_and_the_next_begins():
+    """Frames 1-5 of two blobs coming together, drawn as one run going on from frame to
+    frame, and as two chunks (1-2, then 3-5 from scratch, as on another machine): at the
+    chunk's first frame the marked layers are the same strokes bit for bit, and the
+    outlines the same within half a cell."""
+    def model(f):
+        return M.from_dict({"format": "blobtree-1", "root": {"type": "blend", "children": [
+            {"type": "point", "center": [0, 0, 0], "radius": 1.0},
+            {"type": "transform", "translate": [1.9 - 0.15 * f, 0, 0], "child": {
+                "type": "point", "center": [0, 0, 0], "radius": 0.9}}]}})
+    eye, light = np.array([0.8, -8.0, 1.5]), np.array([-0.3, -0.6, 0.7])
+    st = ST.style("stippled", hatching=True)
+
+    def run(frames, previous=None):
+        out = {}
+        for f in frames:
+            job = PL.Job(M.Evaluator(model(f)), View(eye=eye), light, st,
+                         (PL.Request("OUTLINES"), PL.Request("PLACE_STROKES")), 0, Settings(resolution=16, seed=1))
+            ill = PL.Illustration(job, previous=previous, remember=True)
+            out[f] = ill.run()
+            previous = ill.continuation()
+        return out
+    whole = run(range(1, 6))
+    chunk = run(range(3, 6))
+    for layer in MARKED[::2]:                                    # hatching and stipples
+        a, b = whole[3].strokes.layers[layer], chunk[3].strokes.layers[layer]
+        assert len(a) > 20 and [s.mark for s in a] == [s.mark for s in b], layer
+        assert all(np.array_equal(x.points, y.points) for x, y in zip(a, b)), layer
+    sil = [np.concatenate([s.points for s in r[3].strokes.layers["Silhouette"]]) for r in (whole, chunk)]
+    from blobtree_ink.strokes.smarticles import nearest_distance
+    cell = PL.framing.stroke_unit(M.Evaluator(model(3)), 16)            # about a blackboard cell
+    assert min(np.mean(nearest_distance(sil[0], sil[1]) < 0.5 * cell),
+               np.mean(nearest_distance(sil[1], sil[0]) < 0.5 * cell)) > 0.98
