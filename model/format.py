@@ -51,7 +51,16 @@ def _is_num(v):
     return isinstance(v, (int, float)) and not isinstance(v, bool)
 
 
+class _NonFinite:
+    """A NaN or Infinity literal, kept as it was written until validation names its node."""
+
+    def __init__(self, literal):
+        self.literal = literal
+
+
 def _number(v, path):
+    if isinstance(v, _NonFinite):
+        raise ModelError(f"{path}: must be a finite number, got the literal {v.literal}")
     if not _is_num(v):
         raise ModelError(f"{path}: must be a number, got {_describe(v)}")
     try:
@@ -72,6 +81,8 @@ def _vector(v, path):
 
 
 def _describe(v):
+    if isinstance(v, _NonFinite):
+        return f"the literal {v.literal}"
     if isinstance(v, bool):
         return "a boolean"
     if v is None:
@@ -216,7 +227,7 @@ def loads(text):
     if len(text) > MAX_BYTES:
         raise ModelError(f"document: larger than {MAX_BYTES // 2**20} MiB")
     try:
-        doc = json.loads(text, parse_constant=_reject_constant)
+        doc = json.loads(text, parse_constant=_non_finite)
     except json.JSONDecodeError as e:
         raise ModelError(f"document: not valid JSON: {e.msg} at line {e.lineno} column {e.colno}") from None
     except RecursionError:
@@ -226,8 +237,8 @@ def loads(text):
     return from_dict(doc)
 
 
-def _reject_constant(name):
-    raise ValueError(f"{name} is not a finite number")
+def _non_finite(name):
+    return _NonFinite(name)
 
 
 def load(path):

@@ -100,8 +100,12 @@ def test_document_rules():
 
 def test_non_finite_and_broken_json():
     assert "must be finite" in err(doc(dict(PT, radius=float("nan"))))
-    assert "not a finite number" in err('{"format": "blobtree-1", "root": {"type": "point", '
-                                        '"center": [0, 0, NaN], "radius": 1}}')
+    assert "root.center[2]: must be a finite number, got the literal NaN" in err(
+        '{"format": "blobtree-1", "root": {"type": "point", "center": [0, 0, NaN], "radius": 1}}')
+    assert "root.children[1].radius: must be a finite number, got the literal -Infinity" in err(
+        '{"format": "blobtree-1", "root": {"type": "union", "children": [{"type": "point", "center": [0, 0, 0], '
+        '"radius": 1}, {"type": "point", "center": [1, 0, 0], "radius": -Infinity}]}}')
+    assert "document.format: must be \"blobtree-1\", got the literal NaN" in err('{"format": NaN}')
     assert "root.radius: must be finite, got inf" in err(
         '{"format": "blobtree-1", "root": {"type": "point", "center": [0,0,0], "radius": 1e999}}')
     assert "not valid JSON" in err('{"format": "blobtree-1", "root": ')
