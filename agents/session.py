@@ -181,6 +181,14 @@ class Session:
                     self._reprioritise(rows)
         return np.concatenate([self._missed, self._walls])
 
+    def _priorities(self):
+        """Equation 3's priority of every voxel; a voxel the blackboard made since the last
+        update (a feature point or sample in a new voxel) has 0 until it is updated."""
+        n = self.bb.vox.n
+        if len(self.priority) < n:
+            self.priority = np.concatenate([self.priority, np.zeros(n - len(self.priority))])
+        return self.priority
+
     def _reprioritise(self, rows):
         """Equation 3's priorities again for the voxels around these (new ones start at 0)."""
         mark = np.zeros(self.bb.vox.n, bool)
@@ -189,9 +197,7 @@ class Session:
         mark[:] = False
         mark[nb[nb >= 0]] = True
         around = np.flatnonzero(mark)
-        if len(self.priority) < self.bb.vox.n:
-            self.priority = np.concatenate([self.priority, np.zeros(self.bb.vox.n - len(self.priority))])
-        self.priority[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
+        self._priorities()[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
 
     def _queue_detail(self):
         """Once the polygon edges' seeds are taken and few traces are left: send
@@ -222,7 +228,7 @@ class Session:
         if len(pts):
             covered = self.bb.voxel_rows(self.bb.voxel_of(pts), create=False)
             rows = rows[~np.isin(rows, covered)]
-        self.explorers.enqueue(rows[np.argsort(-self.priority[rows], kind="stable")])
+        self.explorers.enqueue(rows[np.argsort(-self._priorities()[rows], kind="stable")])
 
     # --- requests (Table 1) -----------------------------------------------------------
     def request(self, kind, region=None):
@@ -243,8 +249,8 @@ class Session:
             centres = self.bb.lo + (v["ijk"][rows] + 0.5) * self.h
             rows = rows[region.contains(centres)]
         if not all_surface:
-            rows = rows[self.priority[rows] > np.median(self.priority[rows])] if len(rows) else rows
-        self.explorers.enqueue(rows[np.argsort(-self.priority[rows], kind="stable")])
+            rows = rows[self._priorities()[rows] > np.median(self.priority[rows])] if len(rows) else rows
+        self.explorers.enqueue(rows[np.argsort(-self._priorities()[rows], kind="stable")])
 
     def _in_regions(self, P, kind="OUTLINES"):
         regions = [r for k, r in self.requests if k == kind]
@@ -305,7 +311,7 @@ class Session:
     def _assign(self):
         seeds = self._open_seeds()
         if len(seeds) and len(self.pool):
-            pr = self.priority[self.bb.feat["voxel"][seeds]]
+            pr = self._priorities()[self.bb.feat["voxel"][seeds]]
             seeds = seeds[np.argsort(-pr, kind="stable")]
             take = []
             budget = len(self.pool)

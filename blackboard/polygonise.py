@@ -226,7 +226,8 @@ def mesh_from_grid(ev, grid, project_steps=6):
     vid = np.full(ncell, -1, np.int64)
     vid[active] = np.arange(len(active))
     vid = vid.reshape(grid.res)
-    verts = np.stack([np.bincount(flat, weights=around[:, k], minlength=ncell)[active] for k in range(3)], axis=1)
+    verts = np.stack([np.bincount(flat, weights=around[:, k], minlength=ncell)[active] for k in range(3)],
+                     axis=1).astype(float)        # no crossing at all: bincount gives integers
     verts /= count[active][:, None]
     quads = []
     for a, ijk, low_inside in edge_lists:

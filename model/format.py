@@ -15,6 +15,8 @@ MAX_NODES = 200_000        # far above the papers' 1497-node shell
 MAX_DEPTH = 256            # nesting depth of the node tree
 MAX_BYTES = 256 * 2**20    # size of a model file
 MAX_ABS = 1e9              # largest magnitude accepted for any coordinate or length
+MIN_LENGTH = 1e-9          # smallest radius, scale factor and normal length: their squares and
+                           # inverses stay far from underflow and overflow
 
 _COMMON = {"type", "name"}
 SPEC = {
@@ -103,6 +105,8 @@ def _check_value(kind, v, path):
         f = _number(v, path)
         if not f > 0:
             raise ModelError(f"{path}: must be > 0, got {f:g}")
+        if f < MIN_LENGTH:
+            raise ModelError(f"{path}: must be at least {MIN_LENGTH:g}, got {f:g}")
         return f
     if kind == "ricci_n":
         f = _number(v, path)
@@ -121,12 +125,16 @@ def _check_value(kind, v, path):
         t = _vector(v, path)
         if t == (0.0, 0.0, 0.0):
             raise ModelError(f"{path}: must not be the zero vector")
+        if math.hypot(*t) < MIN_LENGTH:
+            raise ModelError(f"{path}: must be at least {MIN_LENGTH:g} long, got {math.hypot(*t):g}")
         return t
     if kind == "scale":
         t = _vector(v, path)
         for i, x in enumerate(t):
             if x == 0:
                 raise ModelError(f"{path}[{i}]: must not be 0 (the transform must be invertible)")
+            if abs(x) < MIN_LENGTH:
+                raise ModelError(f"{path}[{i}]: must be at least {MIN_LENGTH:g} in size, got {x:g}")
         return t
     raise AssertionError(kind)
 

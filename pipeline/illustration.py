@@ -200,7 +200,11 @@ class Illustration:
                                 stroke_unit(self.ev, j.settings.resolution))
         self.session = Session(self.ev, View(eye=self.eye), j.settings,
                                previous=prev.session if prev is not None else None, remember=self.remember)
-        self._check_regions(self.session.snapshot(stitch=False).vertices)
+        vertices = self.session.snapshot(stitch=False).vertices
+        if len(vertices) == 0:
+            self.warnings.append(f"the grid ({j.settings.resolution}) found no surface: the model's parts are thinner "
+                                 f"than a cell ({self.session.h:.3g} wide), so outlines are missed; raise the grid")
+        self._check_regions(vertices)
         if j.wants_outlines():
             for r in self.requests:
                 if r.kind == FIND_FEATURES:

@@ -161,3 +161,16 @@ def test_node_counts_of_paper_models(load_example):
     assert M.count_nodes(load_example("shell")) == 1497
     assert abs(M.count_nodes(load_example("train")) - 723) <= 5
     assert M.count_nodes(load_example("heart")) == 76
+
+
+def test_lengths_whose_squares_underflow_are_rejected():
+    """A radius, scale factor or normal so small that its square underflows (or its
+    inverse overflows) is refused with its path, not left to divide by zero later."""
+    assert "root.radius: must be at least 1e-09, got 1e-200" in err(doc(dict(PT, radius=1e-200)))
+    assert "root.children[1].radius: must be at least 1e-09" in err(doc(
+        {"type": "blend", "children": [PT, dict(PT, radius=1e-160)]}))
+    assert "root.scale[0]: must be at least 1e-09 in size, got -1e-200" in err(doc(
+        {"type": "transform", "scale": [-1e-200, 1, 1], "child": PT}))
+    assert "root.normal: must be at least 1e-09 long" in err(doc(
+        {"type": "circle", "center": [0, 0, 0], "normal": [1e-300, 0, 0], "circle_radius": 1, "radius": 0.5}))
+    assert M.from_dict(doc(dict(PT, radius=1e-9))).root.radius == 1e-9      # the limit itself loads
