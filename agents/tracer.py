@@ -20,6 +20,7 @@ from .asks import run
 from .bisection import bisect, bisect_some
 from .surface import CREASE, SIL, WEDGE, crease_estimate, unit
 
+SIDE = 0.05         # a crease team's agents keep this share of the step to either side of it
 SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
                     # the Hessian, is off by this much of the crease angle crossed a crease
 
@@ -227,11 +228,22 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         cre = cre[:0]
     # the two correctors side by side, on shared evaluations (agents.asks)
     Qc = P[cre] + h[cre, None] * T[cre]
+
+    def creases():
+        Xc, gA, gB, Fc, Gc, conv = yield from sheets.crease_newton_steps(surface, Qc, Qc, T[cre], pins[cre],
+                                                                         2.0 * h[cre], tol)
+        got = np.flatnonzero(conv)
+        if len(got):            # the sheets meet on past a junction: no crease there (the trace ends)
+            W = team[1][cre[got]] - team[0][cre[got]]
+            conv[got] = yield from sheets.switches_steps(surface, Xc[got], surface.normals(gA[got]),
+                                                         surface.normals(gB[got]), W, SIDE * h[cre[got]])
+        return Xc, gA, gB, Fc, Gc, conv
+
     by_sil, by_cre = run(
         surface.ev,
         surface.silhouette_newton_steps(P[sil] + h[sil, None] * T[sil], T[sil], 2.0 * h[sil], tol, back=P[sil])
         if len(sil) else None,
-        sheets.crease_newton_steps(surface, Qc, Qc, T[cre], pins[cre], 2.0 * h[cre], tol) if len(cre) else None)
+        creases() if len(cre) else None)
     if len(sil):
         Xs, Fs, Gs, Ts, conv, bend = by_sil
         # the gradient at P predicted from X through the Hessian must match P's normal: a
@@ -251,7 +263,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         nA, nB = surface.normals(gA[conv]), surface.normals(gB[conv])
         X[got], nA_out[got], nB_out[got] = Xc[conv], nA, nB
         fX[got], gX[got] = Fc[conv], Gc[conv]
-        A_out[got], B_out[got] = sheets.side_points(Xc[conv], nA, nB, team[1][got] - team[0][got], 0.05 * h[got])
+        A_out[got], B_out[got] = sheets.side_points(Xc[conv], nA, nB, team[1][got] - team[0][got], SIDE * h[got])
         tc = unit(np.cross(nA, nB))
         tangent[got] = np.where(np.einsum("ij,ij->i", tc, T[got])[:, None] < 0, -tc, tc)
         found[got] = newton[got] = True
