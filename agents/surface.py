@@ -17,6 +17,13 @@ SIL, CREASE, CURV = 0, 1, 2
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 NEWTON_ITERS = 6             # Newton iterations of a silhouette corrector before it gives up
 WEDGE = 3.0                  # a crease estimate may lie this many bracket widths from its midpoint
+# a curvature-sign line is drawn only where the surface really turns from convex to concave:
+FLAT = 2.0                   # ... curved: |k1| + |k2| at least this over the model's size (flatter is noise)
+ZERO_MEAN = 0.02             # ... on the zero: |k1 + k2| at most this share of |k1| + |k2| (more: a jump of
+                             # the curvature, where a field's pieces meet, not a zero of it)
+CROSSES = 0.005              # ... and across it: the mean curvature over |k1| + |k2| at PROBE to either side
+PROBE = 0.01                 # of the line (a share of the model's size) has opposite signs, each at least
+                             # CROSSES (a twisted face, a helicoid, has zero mean curvature all over)
 
 
 class Surface:
@@ -174,6 +181,25 @@ class Surface:
         if m.any():
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
         return s
+
+    def curvature_crossings(self, X, n, T):
+        """Whether points X (normals n, line tangents T) of a curvature-sign line lie where
+        the surface turns from convex to concave (FLAT, ZERO_MEAN, CROSSES): the line,
+        not noise of a near-zero curvature on a flat or nearly flat part."""
+        m = len(X)
+        if m == 0:
+            return np.zeros(0, bool)
+        W = unit(np.cross(n, T))
+        d = PROBE * self.scale * W
+        P, _, g = self.project(np.concatenate([X + d, X - d]), anchor=np.concatenate([X, X]))
+        c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([self.ev.field_grad(X)[1], g]))
+        size = np.abs(c["k1"]) + np.abs(c["k2"])
+        rel = np.abs(c["k1"] + c["k2"]) / np.where(size > 0, size, 1.0)
+        signed = (c["k1"] + c["k2"]) / np.where(size > 0, size, 1.0)
+        here, plus, minus = size[:m], signed[m:2 * m], signed[2 * m:]
+        ok = (here * self.scale >= FLAT) & (rel[:m] <= ZERO_MEAN)
+        ok &= (plus * minus < 0) & (np.minimum(np.abs(plus), np.abs(minus)) >= CROSSES)
+        return ok & np.isfinite(size[:m])
 
     def ends(self, kinds, A, B, ref, anchor=None):
         """Bracket ends projected onto the surface, with their gradients and signed

@@ -18,7 +18,7 @@ from ..model.tolerances import on_surface
 from . import sheets
 from .asks import run
 from .bisection import bisect, bisect_some
-from .surface import CREASE, SIL, WEDGE, crease_estimate, unit
+from .surface import CREASE, CURV, SIL, WEDGE, crease_estimate, unit
 
 SIDE = 0.05         # a crease team's agents keep this share of the step to either side of it
 SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
@@ -186,6 +186,9 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     valid &= ~bad
     fX, _ = surface.field_grad(X)
     valid &= on_surface(fX, surface.iso)
+    cv = np.flatnonzero(valid & (kinds == CURV))
+    if len(cv):
+        valid[cv] = surface.curvature_crossings(X[cv], n[cv], tangent[cv])
     return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
@@ -295,6 +298,9 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     adv = np.einsum("ij,ij->i", step, T)
     ok &= (adv > 0.2 * h) & (np.linalg.norm(step, axis=1) < 2.5 * h)
     Tn = np.where(newton[:, None], tangent, unit(step))
+    cv = np.flatnonzero(ok & (kinds == CURV))
+    if len(cv):             # a curvature-sign line ends where the surface stops turning across it
+        ok[cv] = surface.curvature_crossings(X[cv], surface.normals(gX[cv]), Tn[cv])
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok, pins)
