@@ -78,7 +78,8 @@ class Settings:
             raise ValueError(f"subdivide must be 0 or a whole number from 2 to 16, got {self.subdivide!r}")
         bad = [k for k in self.kinds if k not in FEATURE_KINDS]
         if bad or not self.kinds:
-            raise ValueError(f"kinds must be some of {', '.join(FEATURE_KINDS)}, got {self.kinds!r}")
+            raise ValueError(f"lines (the kinds of feature outline) must be one or more of {', '.join(FEATURE_KINDS)}, "
+                             f"got {', '.join(map(str, self.kinds)) or 'none'}")
 
 
 class Session:

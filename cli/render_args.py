@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass
 
 from ..agents import Settings
+from ..blackboard.board import FEATURE_KINDS
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
 from ..strokes import style as ST
@@ -34,6 +35,7 @@ class RenderSpec:
     light: tuple = None         # towards the light; None: the viewer's upper left
     seconds: float = None       # a time budget for the agents
     style: ST.Style = None
+    lines: tuple = Settings.kinds   # the kinds of feature outlines traced
 
 
 def add_parser(sub):
@@ -54,6 +56,8 @@ def add_parser(sub):
     p.add_argument("--light", default=None, help="direction towards the light, x,y,z (write --light=-1,0,1 "
                    "for a leading minus; default: the viewer's upper left)")
     p.add_argument("--seconds", type=float, default=None, help="time budget for the agents")
+    p.add_argument("--lines", default=None, help="the feature outlines to trace, comma-separated: any of "
+                   f"{', '.join(FEATURE_KINDS)} (default {','.join(Settings.kinds)})")
     g = p.add_argument_group("style")
     g.add_argument("--style", default=None, choices=tuple(ST.STYLES),
                    help="a look of the papers' figures (default outlines); the options below change it")
@@ -128,7 +132,8 @@ def style_from_args(args):
         raise CliError(f"style: {e}") from None
 
 
-MODEL_ONLY = ("grid", "agents", "seed", "azimuth", "elevation", "light", "seconds", "style", "requests", "field", "no_cross",
+MODEL_ONLY = ("grid", "agents", "seed", "azimuth", "elevation", "light", "seconds", "lines", "style", "requests", "field",
+              "no_cross",
               "cross_field", "axis", "weights", "flock_size", "surface", "chain_step", "chain_angle",
               "stipple_every", "line_width", "contrast")
 
@@ -169,13 +174,23 @@ def spec_from_args(args):
         raise CliError(f"--seconds must be a positive number, got {args.seconds!r}")
     if args.seed < 0:
         raise CliError(f"--seed must be a whole number from 0, got {args.seed}")
+    lines = Settings.kinds if args.lines is None else lines_of(args.lines)
     try:
-        Settings(resolution=args.grid, agents=args.agents, seed=args.seed).check()
+        Settings(resolution=args.grid, agents=args.agents, seed=args.seed, kinds=lines).check()
     except ValueError as e:
         raise CliError(str(e)) from None
     return RenderSpec(model=args.model, out=args.out, size=args.size, grid=args.grid, agents=args.agents,
                       seed=args.seed, azimuth=args.azimuth, elevation=args.elevation, light=light,
-                      seconds=args.seconds, style=style)
+                      seconds=args.seconds, style=style, lines=lines)
+
+
+def lines_of(text):
+    """The kinds of feature outlines of "--lines a,b", in FEATURE_KINDS order."""
+    got = [k.strip() for k in text.split(",") if k.strip()]
+    bad = [k for k in got if k not in FEATURE_KINDS]
+    if bad or not got:
+        raise CliError(f"--lines must be one or more of {', '.join(FEATURE_KINDS)}, got {', '.join(bad) or 'none'}")
+    return tuple(k for k in FEATURE_KINDS if k in got)
 
 
 def _scene_spec(args):

@@ -8,6 +8,7 @@ from mathutils import Matrix, Vector
 
 from .. import pipeline as PL
 from ..agents import Region, Settings
+from ..blackboard.board import FEATURE_KINDS
 from ..blackboard.view import View
 
 
@@ -141,4 +142,5 @@ def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, i
 
 def tree_settings(ink):
     """The sampling settings of a tree's illustration settings."""
-    return Settings(resolution=ink.grid_resolution, agents=ink.agents, lod=ink.lod, seed=ink.seed)
+    return Settings(resolution=ink.grid_resolution, agents=ink.agents, lod=ink.lod, seed=ink.seed,
+                    kinds=tuple(k for k in FEATURE_KINDS if k.upper() in ink.lines))

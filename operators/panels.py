@@ -29,6 +29,8 @@ def _draw_tree(layout, tree):
         op = grid.operator("blobtree_ink.illustrate", text=key.replace("_", " ").title())
         op.tree_name, op.preset, op.request = tree.name, key, "PLACE_STROKES"
     s = tree.ink
+    row = layout.row(align=True)
+    row.prop(s, "lines", expand=True)
     col = layout.column(align=True)
     col.prop(s, "grid_resolution")
     col.prop(s, "agents")

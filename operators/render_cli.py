@@ -71,7 +71,7 @@ def render(spec, log):
     bpy.ops.wm.read_homefile(use_empty=True, use_factory_startup=True)
     sc = bpy.context.scene
     S.setup(sc, centre, eye, size=spec.size, light_dir=light)
-    settings = Settings(resolution=spec.grid, agents=spec.agents, seed=spec.seed)
+    settings = Settings(resolution=spec.grid, agents=spec.agents, seed=spec.seed, kinds=spec.lines)
     try:
         job = jobs.job(ev, sc, spec.style, settings, requests, spec.seed, seconds=spec.seconds)
         ill = PL.Illustration(job)
