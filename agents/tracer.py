@@ -21,6 +21,7 @@ from .bisection import bisect, bisect_some
 from .surface import CREASE, CURV, SIL, WEDGE, crease_estimate, unit
 
 SIDE = 0.05         # a crease team's agents keep this share of the step to either side of it
+ON_SILHOUETTE = 1e-7  # |n.v| of a silhouette point (a Newton-located one: about 1e-12)
 SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
                     # the Hessian, is off by this much of the crease angle crossed a crease
 
@@ -254,6 +255,9 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         # past the shortest step the silhouette ends at the crease)
         back = surface.normals(Gs - bend)
         conv &= np.einsum("ij,ij->i", back, nP[sil]) > np.cos(SMOOTH * crease_angle)
+        # and the point must be on the silhouette: Newton's last step can be below tol
+        # where the Hessian is huge (beside a crease) while n.v is not yet zero
+        conv &= np.abs(np.einsum("ij,ij->i", surface.normals(Gs), surface.view.towards_eye(Xs))) <= ON_SILHOUETTE
         got = sil[conv]
         X[got] = A_out[got] = B_out[got] = Xs[conv]
         fX[got], gX[got] = Fs[conv], Gs[conv]

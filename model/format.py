@@ -15,8 +15,8 @@ MAX_NODES = 200_000        # far above the papers' 1497-node shell
 MAX_DEPTH = 256            # nesting depth of the node tree
 MAX_BYTES = 256 * 2**20    # size of a model file
 MAX_ABS = 1e9              # largest magnitude accepted for any coordinate or length
-MIN_LENGTH = 1e-9          # smallest radius, scale factor and normal length: their squares and
-                           # inverses stay far from underflow and overflow
+MIN_LENGTH = 1e-9          # smallest radius, scale factor, normal length and non-zero bend rate:
+                           # their squares and inverses stay far from underflow and overflow
 
 _COMMON = {"type", "name"}
 SPEC = {
@@ -39,7 +39,7 @@ SPEC = {
                   "scale": ("scale", False)},
     "twist": {"child": ("child", True), "rate": ("num", True)},
     "taper": {"child": ("child", True), "rate": ("num", True)},
-    "bend": {"child": ("child", True), "rate": ("num", True)},
+    "bend": {"child": ("child", True), "rate": ("bend_rate", True)},
 }
 _DEFAULTS = {"strength": 1.0, "translate": (0.0, 0.0, 0.0), "rotate": (0.0, 0.0, 0.0),
              "scale": (1.0, 1.0, 1.0)}
@@ -112,6 +112,12 @@ def _check_value(kind, v, path):
         f = _number(v, path)
         if not f >= 1:
             raise ModelError(f"{path}: must be >= 1, got {f:g}")
+        return f
+    if kind == "bend_rate":
+        f = _number(v, path)
+        if f != 0 and abs(f) < MIN_LENGTH:
+            raise ModelError(f"{path}: must be 0 or at least {MIN_LENGTH:g} in size (a bend radius of at most "
+                             f"{1 / MIN_LENGTH:g}), got {f:g}")
         return f
     if kind in ("vec", "angles"):
         return _vector(v, path)

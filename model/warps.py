@@ -183,7 +183,7 @@ def bend_bounds(lo, hi, rate):
     """Image of the child's box under the forward bend p = W(q)."""
     if unbounded(lo, hi):
         return np.full(3, -INF), np.full(3, INF)
-    if rate == 0:
+    if rate == 0 or np.any(lo > hi):            # no bend, or an empty support (it stays empty)
         return lo.copy(), hi.copy()
     r = 1.0 / rate
     sg = 1.0 if rate > 0 else -1.0

@@ -173,4 +173,6 @@ def test_lengths_whose_squares_underflow_are_rejected():
         {"type": "transform", "scale": [-1e-200, 1, 1], "child": PT}))
     assert "root.normal: must be at least 1e-09 long" in err(doc(
         {"type": "circle", "center": [0, 0, 0], "normal": [1e-300, 0, 0], "circle_radius": 1, "radius": 0.5}))
+    assert "root.rate: must be 0 or at least 1e-09 in size" in err(doc({"type": "bend", "rate": 5e-324, "child": PT}))
+    assert M.from_dict(doc({"type": "bend", "rate": 0, "child": PT})).root.rate == 0
     assert M.from_dict(doc(dict(PT, radius=1e-9))).root.radius == 1e-9      # the limit itself loads

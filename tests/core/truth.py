@@ -29,19 +29,34 @@ def _project(ev, P, steps=20):
 def normal_spread(ev, X, radius):
     """The largest angle between the surface normals found around each point X: points
     on a sphere of ``radius`` around it projected onto the surface, those that land
-    within twice the radius of X."""
+    within twice the radius of X (one batch for all points)."""
+    X = np.asarray(X, float)
     D = _directions()
-    out = np.zeros(len(X))
-    for i, x in enumerate(np.asarray(X, float)):
-        P = _project(ev, x + radius * D)
-        f, g = ev.field_grad(P)
-        near = (np.linalg.norm(P - x, axis=1) < 2 * radius) & (np.abs(f - ev.iso) < 1e-9) & \
-            (np.einsum("ij,ij->i", g, g) > 0)
-        if near.sum() < 2:
-            continue
-        n = -g[near] / np.linalg.norm(g[near], axis=1, keepdims=True)
-        out[i] = np.arccos(np.clip(n @ n.T, -1, 1)).max()
-    return out
+    k = len(D)
+    P = _project(ev, (X[:, None, :] + radius * D[None]).reshape(-1, 3))
+    f, g = ev.field_grad(P)
+    near = (np.linalg.norm(P.reshape(len(X), k, 3) - X[:, None], axis=2) < 2 * radius) & \
+        (np.abs(f - ev.iso) < 1e-9).reshape(len(X), k) & (np.einsum("ij,ij->i", g, g) > 0).reshape(len(X), k)
+    n = (-g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)).reshape(len(X), k, 3)
+    cos = np.einsum("pik,pjk->pij", n, n)
+    both = near[:, :, None] & near[:, None, :]
+    return np.arccos(np.clip(np.where(both, cos, 1.0), -1, 1)).max(axis=(1, 2))
+
+
+def on_the_surface(ev, X, rel=1e-6):
+    """Whether each point lies on the iso-surface: its distance estimate |f - iso| / |grad f|
+    within ``rel`` of the model's size."""
+    f, g = ev.field_grad(np.asarray(X, float))
+    return np.abs(f - ev.iso) <= rel * ev.scale * np.linalg.norm(g, axis=1)
+
+
+def silhouette_residual(ev, X, eye):
+    """|n . v| at each point (v: the unit direction towards the eye): 0 on a silhouette."""
+    X = np.asarray(X, float)
+    _, g = ev.field_grad(X)
+    n = -g / np.linalg.norm(g, axis=1, keepdims=True)
+    v = eye - X
+    return np.abs(np.einsum("ij,ij->i", n, v / np.linalg.norm(v, axis=1, keepdims=True)))
 
 
 def on_a_crease(ev, X, radius=CREASE_RADIUS, jump=CREASE_JUMP):
