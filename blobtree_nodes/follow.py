@@ -5,7 +5,7 @@ when an object a tree follows moves (the artist drags it, a constraint), so does
 tree's preview. A tree's followed objects are kept per tree until it is edited."""
 import bpy
 
-from . import animation, changes
+from . import animation, changes, handlers
 
 TREE = "BlobTreeInkNodeTree"
 _followed = {}                   # tree name -> (edit count, names of the objects its nodes follow)
@@ -79,13 +79,9 @@ HANDLERS = ((bpy.app.handlers.frame_change_post, _frame_changed),
 
 
 def register():
-    for lst, fn in HANDLERS:
-        if fn not in lst:
-            lst.append(fn)
+    handlers.attach(HANDLERS)
 
 
 def unregister():
-    for lst, fn in HANDLERS:
-        if fn in lst:
-            lst.remove(fn)
+    handlers.detach(HANDLERS)
     _followed.clear()

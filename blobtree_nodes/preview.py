@@ -12,7 +12,7 @@ from mathutils import Vector
 
 from ..blackboard.polygonise import GridError, polygonise, surface_box
 from ..model import Evaluator
-from . import changes
+from . import changes, handlers
 from .compile import tree_model_or_none
 
 COLLECTION = "BlobTree Ink"
@@ -167,14 +167,10 @@ HANDLERS = ((bpy.app.handlers.undo_post, _after_undo), (bpy.app.handlers.redo_po
 
 def register():
     changes.on_due(rebuild)
-    for lst, fn in HANDLERS:
-        if fn not in lst:
-            lst.append(fn)
+    handlers.attach(HANDLERS)
 
 
 def unregister():
-    for lst, fn in HANDLERS:
-        if fn in lst:
-            lst.remove(fn)
+    handlers.detach(HANDLERS)
     changes.stop()
     changes.on_due(None)

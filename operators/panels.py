@@ -160,37 +160,22 @@ class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
         _draw_last_run(self.layout)
 
 
-def _style_panel(space, parent):
+def _sub_panel(space, parent, ident, label, draw, closed=False):
+    """A sub-panel of the sidebar's BlobTree Ink panel that shows while a tree is shown:
+    ``draw(layout, tree, scene)``."""
     class Panel(_Sidebar, bpy.types.Panel):
-        bl_label = "Style"
+        bl_label = label
         bl_space_type = space
         bl_parent_id = parent
-        bl_options = {"DEFAULT_CLOSED"}
+        bl_options = {"DEFAULT_CLOSED"} if closed else set()
 
         @classmethod
         def poll(cls, context):
             return shown_tree(context) is not None
 
         def draw(self, context):
-            _draw_style(self.layout, shown_tree(context).ink)
-    Panel.__name__ = f"{space}_PT_blobtree_ink_style"
-    Panel.bl_idname = Panel.__name__
-    return Panel
-
-
-def _layers_panel(space, parent):
-    class Panel(_Sidebar, bpy.types.Panel):
-        bl_label = "Ink Layers"
-        bl_space_type = space
-        bl_parent_id = parent
-
-        @classmethod
-        def poll(cls, context):
-            return shown_tree(context) is not None
-
-        def draw(self, context):
-            _draw_layers(self.layout, shown_tree(context))
-    Panel.__name__ = f"{space}_PT_blobtree_ink_layers"
+            draw(self.layout, shown_tree(context), context.scene)
+    Panel.__name__ = f"{space}_PT_blobtree_ink_{ident}"
     Panel.bl_idname = Panel.__name__
     return Panel
 
@@ -217,26 +202,12 @@ def _draw_animation(layout, tree, scene):
     layout.prop(s, "render_frames")
 
 
-def _animation_panel(space, parent):
-    class Panel(_Sidebar, bpy.types.Panel):
-        bl_label = "Animation"
-        bl_space_type = space
-        bl_parent_id = parent
-        bl_options = {"DEFAULT_CLOSED"}
-
-        @classmethod
-        def poll(cls, context):
-            return shown_tree(context) is not None
-
-        def draw(self, context):
-            _draw_animation(self.layout, shown_tree(context), context.scene)
-    Panel.__name__ = f"{space}_PT_blobtree_ink_animation"
-    Panel.bl_idname = Panel.__name__
-    return Panel
+def _sub_panels(space, parent):
+    return (_sub_panel(space, parent, "style", "Style", lambda layout, tree, scene: _draw_style(layout, tree.ink),
+                       closed=True),
+            _sub_panel(space, parent, "layers", "Ink Layers", lambda layout, tree, scene: _draw_layers(layout, tree)),
+            _sub_panel(space, parent, "animation", "Animation", _draw_animation, closed=True))
 
 
-classes = (VIEW3D_PT_blobtree_ink, _style_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
-           _layers_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"), _animation_panel("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
-           NODE_PT_blobtree_ink, _style_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"),
-           _layers_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"),
-           _animation_panel("NODE_EDITOR", "NODE_PT_blobtree_ink"))
+classes = (VIEW3D_PT_blobtree_ink, *_sub_panels("VIEW_3D", "VIEW3D_PT_blobtree_ink"),
+           NODE_PT_blobtree_ink, *_sub_panels("NODE_EDITOR", "NODE_PT_blobtree_ink"))

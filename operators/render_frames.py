@@ -11,6 +11,7 @@ import traceback
 import bpy
 
 from .. import pipeline as PL
+from ..blobtree_nodes import handlers
 from ..blobtree_nodes.animation import DriverError
 from ..blobtree_nodes.compile import TreeError
 from . import frames as FR
@@ -72,13 +73,9 @@ HANDLERS = ((bpy.app.handlers.render_init, _render_init), (bpy.app.handlers.rend
 
 
 def register():
-    for lst, fn in HANDLERS:
-        if fn not in lst:
-            lst.append(fn)
+    handlers.attach(HANDLERS)
 
 
 def unregister():
-    for lst, fn in HANDLERS:
-        if fn in lst:
-            lst.remove(fn)
+    handlers.detach(HANDLERS)
     _rendering.clear()

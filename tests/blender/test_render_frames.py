@@ -7,28 +7,15 @@ import os
 import bpy
 import numpy as np
 import pytest
-from mathutils import Vector
+from moving_scene import moving_spheres
 
 
 def scene_file(example, path):
     """A saved scene: two spheres, the second following an Empty from x=0 (frame 1) to
     x=2 (frame 5), a camera, the stippled look."""
-    bpy.ops.blobtree_ink.import_json(filepath=example("two_spheres"), preview=True)
-    tree = bpy.data.node_groups["two_spheres"]
-    tree.ink.grid_resolution, tree.ink.stipples, tree.ink.line_width = 10, True, 4.0
-    a, b = [n for n in tree.nodes if getattr(n, "kind", "") == "point"]
+    tree, _ = moving_spheres(example)
+    tree.ink.stipples, tree.ink.line_width = True, 4.0
     sc = bpy.context.scene
-    empty = bpy.data.objects.new("Driver", None)
-    sc.collection.objects.link(empty)
-    b.center_object = empty
-    for frame, x in ((1, 0.0), (5, 2.0)):
-        empty.location = (x, 0.0, 0.0)
-        empty.keyframe_insert("location", frame=frame)
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    cam.location = (0.8, -7.0, 0.5)
-    cam.rotation_euler = (Vector((0.8, 0.0, 0.0)) - cam.location).to_track_quat("-Z", "Y").to_euler()
     sc.render.engine = "BLENDER_WORKBENCH"
     sc.frame_set(1)
     bpy.ops.wm.save_as_mainfile(filepath=str(path))
