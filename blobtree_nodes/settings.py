@@ -126,14 +126,18 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         name="Seed", default=_RunSettings.seed, min=0,
         description="Seed of the random choices (exploring agents, which strokes go in the penumbra, wander): "
                     "the same seed draws the same strokes, in every frame; another seed, another set")
-    lines: bpy.props.EnumProperty(
-        name="Lines", options={"ENUM_FLAG"}, default=set(k.upper() for k in _RunSettings.kinds),
-        description="The feature outlines Trace Feature Outlines and Find Features trace",
-        items=[("SILHOUETTE", "Silhouette", "Where the surface turns away from the eye (layer Silhouette)", 1),
-               ("CREASE", "Crease", "Where the surface folds: the edges of unions, intersections and differences "
-                "(layer Crease)", 2),
-               ("CURVATURE", "Curvature", "Where the surface turns from convex to concave: the mean curvature "
-                "changes sign (layer Curvature; none across flat parts)", 4)])
+    line_silhouette: bpy.props.BoolProperty(
+        name="Silhouette", default="silhouette" in _RunSettings.kinds,
+        description="Trace Feature Outlines and Find Features trace silhouettes: where the surface turns away "
+                    "from the eye (layer Silhouette)")
+    line_crease: bpy.props.BoolProperty(
+        name="Crease", default="crease" in _RunSettings.kinds,
+        description="Trace Feature Outlines and Find Features trace creases: where the surface folds, the edges "
+                    "of unions, intersections and differences (layer Crease)")
+    line_curvature: bpy.props.BoolProperty(
+        name="Curvature", default="curvature" in _RunSettings.kinds,
+        description="Trace Feature Outlines and Find Features trace curvature-sign lines: where the surface "
+                    "turns from convex to concave (layer Curvature; none across flat parts)")
     use_camera: bpy.props.BoolProperty(
         name="From Camera", default=True,
         description="Illustrate the model as the scene camera sees it (else as the 3D viewport does)")

@@ -143,4 +143,4 @@ def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, i
 def tree_settings(ink):
     """The sampling settings of a tree's illustration settings."""
     return Settings(resolution=ink.grid_resolution, agents=ink.agents, lod=ink.lod, seed=ink.seed,
-                    kinds=tuple(k for k in FEATURE_KINDS if k.upper() in ink.lines))
+                    kinds=tuple(k for k in FEATURE_KINDS if getattr(ink, f"line_{k}")))

@@ -4,6 +4,7 @@ animation: the bake range, Bake and Clear, the frames drawn), the other trees as
 row each, and the latest run's figures."""
 import bpy
 
+from ..blackboard.board import FEATURE_KINDS
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
 from .common import active_tree, blobtrees, ink_name
@@ -30,7 +31,8 @@ def _draw_tree(layout, tree):
         op.tree_name, op.preset, op.request = tree.name, key, "PLACE_STROKES"
     s = tree.ink
     row = layout.row(align=True)
-    row.prop(s, "lines", expand=True)
+    for kind in FEATURE_KINDS:
+        row.prop(s, f"line_{kind}", toggle=True)
     col = layout.column(align=True)
     col.prop(s, "grid_resolution")
     col.prop(s, "agents")

@@ -241,13 +241,13 @@ def test_curvature_lines_through_the_command_line_and_the_panel_toggles(ext, exa
     bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
     tree = bpy.data.node_groups["pear"]
     tree.ink.grid_resolution = 12
-    tree.ink.lines = {"SILHOUETTE", "CURVATURE"}
+    tree.ink.line_crease, tree.ink.line_curvature = False, True
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
     op = SM.from_grease_pencil(bpy.data.objects["pear Ink"])
     _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example("pear"))))
     assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
     # with every kind off there is nothing to trace: a named error, the drawing kept
-    tree.ink.lines = set()
+    tree.ink.line_silhouette = tree.ink.line_curvature = False
     with pytest.raises(RuntimeError, match="must be one or more of silhouette, crease, curvature, got none"):
         bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES")
     assert SM.differences(SM.from_grease_pencil(bpy.data.objects["pear Ink"]), op, dist=0, count=0, rel=0, q=1.0) == []

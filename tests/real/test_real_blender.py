@@ -361,3 +361,22 @@ def test_a_background_animation_render_of_an_example_scene(user_dir, tmp_path):
     moved = [np.mean(np.abs((a < 0.5).astype(float) - (b < 0.5))) for a, b in zip(frames, frames[1:])]
     assert all(m > 0.001 for m in moved), moved                        # each frame its own drawing
     assert "Traceback" not in p.stdout + p.stderr
+
+
+def test_real_ui_an_artist_turns_on_curvature_lines(user_dir, tmp_path):
+    """Issue #30 in the real UI (tests/real/ui/lines.py): a click on the sidebar's
+    Curvature toggle (Silhouette and Crease are on by default), then Trace Feature
+    Outlines from menu search: the pear's curvature-sign lines are drawn on their layer,
+    and show as ink on screen."""
+    out, facts = run_ui_script("lines.py", user_dir, tmp_path)
+    assert "error" not in facts, facts.get("error")
+    assert facts["lines_before"] == ["silhouette", "crease"]
+    assert facts["lines_after"] == ["silhouette", "crease", "curvature"]     # a click adds one kind
+    assert facts["state"] == "done"
+    assert facts["counts"]["Curvature"] > 0 and facts["counts"]["Silhouette"] > 0
+    for name in ("lines_1_sidebar.png", "lines_2_curvature_on.png", "lines_3_traced.png"):
+        shutil.copy(os.path.join(out, name), artifact(name))
+    shot = read_png(artifact("lines_3_traced.png")).astype(float).mean(axis=2) / 255
+    pts = np.array(json.load(open(os.path.join(out, "lines_points.json")))["curvature"], float)
+    assert len(pts) >= 5                                  # the visible arc where the stem meets the body
+    assert np.median(_darkest(shot, pts)) < 0.3           # the curvature line is ink on screen

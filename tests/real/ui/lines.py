@@ -1,0 +1,117 @@
+"""Real-UI script: an artist turns on curvature-sign lines in the sidebar and traces
+them, with the clicks and keys sent by xdotool. Python set-up (and why) is marked [Python].
+
+1. Past the splash (Escape); the extension enabled, the default cube deleted and the
+   pear imported with its preview [Python: the file browser is not what this test is
+   about]; nothing selected.
+   The view framed on the pear: the preview selected [Python], F3 "frame selected",
+   Alt+A.
+2. The mouse over the 3D viewport, N shows the sidebar [Python: its BlobTree Ink tab].
+   A screenshot; the Lines row is found on it: the first row of the sidebar that is
+   mostly the selected-toggle blue (Silhouette and Crease are on, two thirds of the
+   row; Curvature is the grey third right of them). A click on Curvature.
+3. F3, "trace feature outlines", Return; the run's end awaited; a screenshot.
+
+Facts go to facts.json; the Curvature layer's points projected into the viewport
+(screen pixels) to lines_points.json."""
+import json
+import os
+import sys
+
+import addon_utils
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from uikit import (drawing_of, in_viewport, menu_search, read_screen, redrawn, region_of, screen_xy,  # noqa: E402
+                   until, watch_redraws)
+from uistep import EXT, OUT, REPO, Steps, record  # noqa: E402
+
+ENDED = ("done", "stopped", "failed", "tree edited", "cancelled")
+TOGGLE_ON = np.array([71, 114, 179])        # the default theme's selected toggle (inner_sel), on screen
+
+
+def lines_row(px, left, top, width, height):
+    """Screen (x0, x1, y) of the first sidebar row mostly in the selected-toggle blue:
+    the Lines row, its Silhouette and Crease toggles on (x0..x1)."""
+    for y in range(top, top + height):
+        blue = np.flatnonzero(np.abs(px[y, left:left + width] - TOGGLE_ON).max(axis=1) < 30)
+        if len(blue) > 0.5 * width:
+            return left + int(blue.min()), left + int(blue.max()), y
+    return None
+
+
+def lines(tree):
+    return [k for k in ("silhouette", "crease", "curvature") if getattr(tree.ink, f"line_{k}")]
+
+
+def run():
+    yield 1.0
+    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
+    addon_utils.enable(EXT, default_set=True)
+    watch_redraws()
+    win = bpy.context.window_manager.windows[0]
+    for obj in list(bpy.data.objects):
+        if obj.type == "MESH":
+            bpy.data.objects.remove(obj)
+    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    vregion = region_of(view3d, "WINDOW")
+    rv3d = view3d.spaces.active.region_3d
+    with bpy.context.temp_override(window=win, area=view3d, region=vregion):
+        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "pear.json"), preview=True)
+    tree = bpy.data.node_groups["pear"]
+    yield from until(lambda: tree.preview_object is not None, 20, "the preview")
+    bpy.ops.ed.undo_push(message="set up")
+    # the view framed on the pear, as an artist does before drawing: the preview selected
+    # [Python: a click would have to find it], F3 "frame selected", Alt+A deselects
+    for obj in bpy.context.selected_objects:
+        obj.select_set(False)
+    tree.preview_object.select_set(True)
+    d0 = rv3d.view_distance
+    yield from menu_search(win, vregion, "frame selected")
+    yield from until(lambda: rv3d.view_distance < 0.8 * d0, 5, "Frame Selected")
+    yield {"action": "key", "keys": ["alt+a"], "pause": 0.5}
+    yield from until(lambda: not bpy.context.selected_objects, 5, "Alt+A to deselect all")
+
+    # --- 2. the sidebar, its Lines row, a click on Curvature ------------------------------------
+    space = view3d.spaces.active
+    x, y = screen_xy(win, vregion, vregion.width / 2, vregion.height / 2)
+    yield {"action": "mouse", "x": x, "y": y}
+    if not space.show_region_ui:
+        yield {"action": "key", "keys": ["n"], "pause": 0.5}
+        yield from until(lambda: space.show_region_ui, 5, "N to show the sidebar")
+    ui = region_of(view3d, "UI")
+    ui.active_panel_category = "BlobTree Ink"
+    yield from redrawn(view3d)
+    yield 0.5
+    yield {"action": "screenshot", "name": "lines_1_sidebar.png"}
+    record(lines_before=lines(tree))
+    px = read_screen("lines_1_sidebar.png")
+    left, top = screen_xy(win, ui, 0, ui.height)
+    row = lines_row(px, left, top, ui.width, ui.height)
+    record(lines_row=row)
+    if row is None:
+        raise AssertionError("no Lines row with its toggles on in the sidebar")
+    x0, x1, y = row
+    cx = x1 + (x1 - x0 + 1) // 4                          # the middle of the third toggle, right of the two on
+    yield {"action": "mouse", "x": cx, "y": y + 3, "click": 1, "pause": 0.5}
+    yield from until(lambda: tree.ink.line_curvature, 5, "a click on the Curvature toggle")
+    yield from redrawn(view3d)
+    yield {"action": "screenshot", "name": "lines_2_curvature_on.png"}
+    record(lines_after=lines(tree))
+
+    # --- 3. trace ---------------------------------------------------------------------------------
+    ill = sys.modules[EXT + ".operators.illustrate"]
+    ill.last_run.clear()
+    yield from menu_search(win, vregion, "trace feature outlines")
+    yield from until(lambda: ill.last_run.get("state") in ENDED, 240, "the trace to end")
+    ink = bpy.data.objects[f"{tree.name} Ink"]
+    record(state=ill.last_run.get("state"),
+           counts={k: len(drawing_of(ink, k)) for k in ("Silhouette", "Crease", "Curvature")})
+    yield from redrawn(view3d)
+    yield {"action": "screenshot", "name": "lines_3_traced.png"}
+    with open(os.path.join(OUT, "lines_points.json"), "w") as fh:
+        json.dump({"curvature": in_viewport(win, vregion, rv3d, ink, drawing_of(ink, "Curvature"))}, fh)
+
+
+Steps(run())
