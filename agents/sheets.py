@@ -101,12 +101,12 @@ def crease_newton_steps(surface, X0, Q, T, pins, reach, tol):
 def switches_steps(surface, X, nA, nB, W, eps):
     """Whether the branches really switch across crease points X (sheets' normals nA, nB;
     W across the crease from side A to side B): the records of the points ``eps`` to
-    either side choose differently at some site. Two pinned sheets meet on past the
-    end of their crease (where it runs into another crease or a third part takes over
-    the surface, a triple junction); there both sides take the same branches, and no
-    crease is drawn. A solver (agents.asks)."""
+    either side (:func:`side_points`, returned too) choose differently at some site.
+    Two pinned sheets meet on past the end of their crease (where it runs into another
+    crease or a third part takes over the surface, a triple junction); there both sides
+    take the same branches, and no crease is drawn. A solver (agents.asks)."""
     A, B = side_points(X, nA, nB, W, eps)
-    return (yield from record_ends_steps(surface, A, B))[1]
+    return (yield from record_ends_steps(surface, A, B))[1], A, B
 
 
 def side_points(X, nA, nB, W, eps):

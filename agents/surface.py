@@ -182,17 +182,17 @@ class Surface:
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
         return s
 
-    def curvature_crossings(self, X, n, T):
-        """Whether points X (normals n, line tangents T) of a curvature-sign line lie where
+    def curvature_crossings(self, X, g, T):
+        """Whether points X (gradients g, line tangents T) of a curvature-sign line lie where
         the surface turns from convex to concave (FLAT, ZERO_MEAN, CROSSES): the line,
         not noise of a near-zero curvature on a flat or nearly flat part."""
         m = len(X)
         if m == 0:
             return np.zeros(0, bool)
-        W = unit(np.cross(n, T))
+        W = unit(np.cross(self.normals(g), T))
         d = PROBE * self.scale * W
-        P, _, g = self.project(np.concatenate([X + d, X - d]), anchor=np.concatenate([X, X]))
-        c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([self.ev.field_grad(X)[1], g]))
+        P, _, gP = self.project(np.concatenate([X + d, X - d]), anchor=np.concatenate([X, X]))
+        c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([g, gP]))
         size = np.abs(c["k1"]) + np.abs(c["k2"])
         rel = np.abs(c["k1"] + c["k2"]) / np.where(size > 0, size, 1.0)
         signed = (c["k1"] + c["k2"]) / np.where(size > 0, size, 1.0)

@@ -189,7 +189,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     valid &= on_surface(fX, surface.iso)
     cv = np.flatnonzero(valid & (kinds == CURV))
     if len(cv):
-        valid[cv] = surface.curvature_crossings(X[cv], n[cv], tangent[cv])
+        valid[cv] = surface.curvature_crossings(X[cv], gX[cv], tangent[cv])
     return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
@@ -237,11 +237,12 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         Xc, gA, gB, Fc, Gc, conv = yield from sheets.crease_newton_steps(surface, Qc, Qc, T[cre], pins[cre],
                                                                          2.0 * h[cre], tol)
         got = np.flatnonzero(conv)
+        sides = np.zeros((2, len(Xc), 3))     # the team's new side points
         if len(got):            # the sheets meet on past a junction: no crease there (the trace ends)
             W = team[1][cre[got]] - team[0][cre[got]]
-            conv[got] = yield from sheets.switches_steps(surface, Xc[got], surface.normals(gA[got]),
-                                                         surface.normals(gB[got]), W, SIDE * h[cre[got]])
-        return Xc, gA, gB, Fc, Gc, conv
+            conv[got], sides[0, got], sides[1, got] = yield from sheets.switches_steps(
+                surface, Xc[got], surface.normals(gA[got]), surface.normals(gB[got]), W, SIDE * h[cre[got]])
+        return Xc, gA, gB, Fc, Gc, conv, sides
 
     by_sil, by_cre = run(
         surface.ev,
@@ -265,12 +266,12 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         tangent[got] = Ts[conv]
         found[got] = newton[got] = True
     if len(cre):
-        Xc, gA, gB, Fc, Gc, conv = by_cre
+        Xc, gA, gB, Fc, Gc, conv, sides = by_cre
         got = cre[conv]
         nA, nB = surface.normals(gA[conv]), surface.normals(gB[conv])
         X[got], nA_out[got], nB_out[got] = Xc[conv], nA, nB
         fX[got], gX[got] = Fc[conv], Gc[conv]
-        A_out[got], B_out[got] = sheets.side_points(Xc[conv], nA, nB, team[1][got] - team[0][got], SIDE * h[got])
+        A_out[got], B_out[got] = sides[0, conv], sides[1, conv]
         tc = unit(np.cross(nA, nB))
         tangent[got] = np.where(np.einsum("ij,ij->i", tc, T[got])[:, None] < 0, -tc, tc)
         found[got] = newton[got] = True
@@ -304,7 +305,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     Tn = np.where(newton[:, None], tangent, unit(step))
     cv = np.flatnonzero(ok & (kinds == CURV))
     if len(cv):             # a curvature-sign line ends where the surface stops turning across it
-        ok[cv] = surface.curvature_crossings(X[cv], surface.normals(gX[cv]), Tn[cv])
+        ok[cv] = surface.curvature_crossings(X[cv], gX[cv], Tn[cv])
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok, pins)
