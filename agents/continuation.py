@@ -9,10 +9,12 @@ takes as it is where the model is the same. The next session (:func:`carried`):
 - keeps as traced the last frame's outlines outside the parts of space where the field
   changed (agents.changes): the creases and curvature-sign lines there, and the
   silhouettes too where the eye stayed where it was;
-- seeds the silhouettes there from the last frame's points when the eye moved: every
-  SEED_EVERY-th point brackets across the outline, BRACKETS cells to either side,
-  refined onto this frame's outline as the polygon edges' seeds are (an outline that
-  moved further is found from the polygon edges, as in a first frame);
+- follows the silhouettes there when the eye moved (agents.follow: every point moved
+  onto this frame's silhouette in one batch) and seeds the parts it could not follow
+  from the last frame's points: every SEED_EVERY-th point brackets across the
+  outline, BRACKETS cells to either side, refined onto this frame's outline as the
+  polygon edges' seeds are (an outline that moved further is found from the polygon
+  edges, as in a first frame);
 - looks afresh where the field changed, as in a first frame (everything when the
   tree's shape changed);
 - looks for the features smaller than a cell (the detail phase) only where the field

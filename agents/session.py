@@ -37,6 +37,7 @@ from .beside import seeds_beside_silhouettes
 from .changes import EVERYWHERE
 from .continuation import Continuation, Init, carried, seed_brackets
 from .explore import Explorers
+from .follow import follow
 from .outline import stitch_scales, total_length
 from .pool import AgentPool
 from .sampling import Sampling
@@ -105,12 +106,17 @@ class Session:
         self._init = init if remember else None
         self.vertex_normals = curv["normal"]
         self.vertex_curvature = curv
+        self.h = self.bb.h
+        changed = self.carried.changed         # where the field changed since the last frame (None: nowhere)
         feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle)
         for kind in s.kinds:
             pts, a, b = feats[kind]
+            if kind != "silhouette" and changed is not EVERYWHERE:
+                # creases and curvature-sign lines do not depend on the eye: where the field
+                # is the last frame's, so are they (kept), and its seeds would find them again
+                here = np.zeros(len(pts), bool) if changed is None else changed.contains(pts, pad=self.h)
+                pts, a, b = pts[here], a[here], b[here]
             self.bb.add_features(pts, a, b, kind)
-        self.h = self.bb.h
-        changed = self.carried.changed         # where the field changed since the last frame (None: nowhere)
         if s.explore_detail and changed is not None:           # the flagged voxels' corners where it changed
             detail.corner_features(self.bb, self.surface, s, None if changed is EVERYWHERE else
                                    self.bb.surface_rows[self._changed_here(self._voxel_centres(self.bb.surface_rows))])
@@ -120,7 +126,9 @@ class Session:
         if s.explore_detail and changed is not None:
             self._walls, centres = detail.subtracted_walls(self.surface, self.h, self.ev.model.root)
             detail.subdivide(self.bb, self.surface, s, self._walls, centres)
-        a, b, kinds = seed_brackets(self.carried.seeds, self.h)       # the last frame's outlines as seeds
+        # the last frame's silhouettes followed where the eye moved; what was lost seeds the tracer
+        followed, lost = follow(self.surface, self.carried.seeds, self.h, self.step_len, self.tol, s.crease_angle)
+        a, b, kinds = seed_brackets(lost, self.h)
         for kind in sorted(set(kinds)):
             m = np.array(kinds) == kind
             self.bb.add_features(0.5 * (a[m] + b[m]), a[m], b[m], kind)
@@ -132,7 +140,7 @@ class Session:
         self.traces = Traces(self.surface, self.bb, self.pool, s, self.tol, self.step_len, sites)
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
                                    s.explore_steps)
-        self.traces.add_traced(self.carried.kept)          # the last frame's outlines where nothing changed
+        self.traces.add_traced(self.carried.kept + followed)   # the last frame's outlines where nothing changed
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
         self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age else None

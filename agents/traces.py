@@ -68,6 +68,7 @@ class Traces:
         as traced (no seed starts a trace on them, a trace stops where it meets them,
         the blackboard's seeds of silhouettes and curvature-sign lines their points cross
         are taken) and are among the results as they are."""
+        crossing = []                  # (kinds, points, normals, across, steps) of the lines' points
         for k, o in enumerate(outlines):
             P, n = np.asarray(o.points, float), np.asarray(o.normals, float)
             if not len(P):
@@ -79,8 +80,10 @@ class Traces:
             if o.kind != "crease" and len(P) > 1:
                 W = np.cross(n, np.gradient(P, axis=0))
                 W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
-                consume_crossed(self.board, self.surface, self.settings.crease_angle, np.full(len(P), kind), P, n,
-                                W, np.full(len(P), step))
+                crossing.append((np.full(len(P), kind), P, n, W, np.full(len(P), step)))
+        if crossing:                   # their seeds taken in one batch
+            consume_crossed(self.board, self.surface, self.settings.crease_angle,
+                            *(np.concatenate(a) for a in zip(*crossing)))
 
     def start(self, ids, iteration):
         """Refine the seeds ``ids`` (taken from the blackboard) and start a task on each

@@ -217,4 +217,5 @@ def main():
         print(f"  instead: a dense mesh (grid {res}) and Line Art, {la:.3f} s/frame ({lines} lines)")
 
 
-main()
+if __name__ == "__main__":
+    main()
