@@ -5,17 +5,20 @@ the outline through the old point), where tracing them again takes a sequential 
 per point.
 
 A followed point must pass the tests a trace step passes (converged, on the surface,
-|n.v| <= tracer.ON_SILHOUETTE) and lie within REACH cells of where it was; two
-neighbours stay one outline where their normals do not jump (a crease between them:
-tracer.SMOOTH), the second lies ahead of the first along the old outline, and they lie
-at most SPACING[1] steps apart once up to REFILL rounds of points were put between
-them (a point nearer its predecessor than SPACING[0] steps is dropped). The runs of
-followed points are kept as traced (agents.continuation: they keep their order, so a
-stroke's start and direction stay put); the old points around what was lost seed the
-session as a moved outline does (its brackets), and so do the last ENDS points of an
-open outline (it may have grown there: its cusp or the crease it ends at moved); the
-tracer fills those gaps and extends the outlines, stopping where it meets the followed
-runs.
+|n.v| <= tracer.ON_SILHOUETTE, on the sheet its old point was on: its normal predicted
+back there through the Hessian is the old one, tracer.SMOOTH) and lie within REACH cells
+of where it was; two neighbours stay one outline where the second lies ahead of the
+first along the old outline and they lie at most SPACING[1] steps apart once up to
+REFILL rounds of points were put between them (a point nearer its predecessor than
+SPACING[0] steps is dropped). The runs of followed points are kept as traced
+(agents.continuation: they keep their order, so a stroke's start and direction stay
+put), and a tracing task at each end of an open run traces on beyond it as the
+outline's own (agents.traces.Traces.extend): where the outline grew (its cusp or the
+crease it ends at moved) and across what could not be followed, up to the next run.
+The old points of what was lost (with BESIDE followed ones to either side), and the
+last ENDS points at either end of an open outline, seed the session as a moved
+outline does (its brackets): a trace from a seed finds what the ends' tasks stop
+short of.
 """
 import numpy as np
 
@@ -27,10 +30,10 @@ from .tracer import ON_SILHOUETTE, SMOOTH
 
 REACH = 0.3              # cells a followed point may move (as the seeds' widest bracket: agents.continuation)
 SPACING = (0.5, 1.5)     # steps between neighbours of a followed outline, at least and at most
-REFILL = 2               # rounds of points put between neighbours too far apart
+REFILL = 1               # rounds of points put between neighbours too far apart
 SHORTEST = 3             # points of the shortest run kept (a shorter one is left to the tracer)
+ENDS = 3                 # points at either end of an open outline left to seed the tracer
 BESIDE = 2               # followed points to either side of a lost part that seed with it
-ENDS = 3                 # points at either end of an open outline left to the tracer
 
 
 def follow(surface, outlines, h, step_len, tol, crease_angle):
@@ -52,7 +55,7 @@ def follow(surface, outlines, h, step_len, tol, crease_angle):
     for o in outlines:
         rows = slice(start, start + len(o.points))
         start += len(o.points)
-        runs, gaps = _runs(X[rows], n[rows], T[rows], good[rows], o.closed, crease_angle, steps[rows][0])
+        runs, gaps = _runs(X[rows], n[rows], T[rows], good[rows], o.closed, steps[rows][0])
         followed += [(o, r) for r in runs]
         lost += [_old_part(o, a, b) for a, b in gaps]
     followed = _spaced(surface, followed, step_len, h, tol, crease_angle)
@@ -81,25 +84,26 @@ def _moved(surface, Q, T, reach, tol, back, n_back, crease_angle):
     return X, n, ok
 
 
-def _links(X, n, T, crease_angle, step):
-    """Whether each point and the next are one outline: no normal jump, ahead, not far."""
+def _links(X, T, step):
+    """Whether each point and the next are one outline: the next ahead, not far. (Each
+    point stayed on its old point's sheet, :func:`_moved`: a link crosses no crease the
+    old one did not.)"""
     d = X[1:] - X[:-1]
-    smooth = np.einsum("ij,ij->i", n[1:], n[:-1]) > np.cos(SMOOTH * crease_angle)
     ahead = np.einsum("ij,ij->i", d, T[:-1]) > 0
     near = np.linalg.norm(d, axis=1) <= 2.5 * step
-    return smooth & ahead & near
+    return ahead & near
 
 
-def _runs(X, n, T, good, closed, crease_angle, step):
+def _runs(X, n, T, good, closed, step):
     """Runs (points, normals, tangents, closed) of followed points, and the (start, end)
     ranges of the old points not followed (a closed outline's may pass its last point)."""
     m = len(X)
-    if not closed:
+    if not closed:                     # an open outline's last points seed the tracer too
         good = good.copy()
         good[:ENDS] = False
         good[m - ENDS:] = False
     wrap = (lambda a: np.vstack([a, a[:1]])) if closed else (lambda a: a)
-    ok = _links(wrap(X), wrap(n), wrap(T), crease_angle, step)            # point i joins i + 1
+    ok = _links(wrap(X), wrap(T), step)            # point i joins i + 1
     ok = np.append(ok, False)[:m] & good & np.roll(good, -1)
     if closed and ok.all():
         return [(X, n, T, True)], []
@@ -144,7 +148,6 @@ def _spaced(surface, followed, step_len, h, tol, crease_angle):
     rounds of midpoints moved onto the silhouette where they are too far apart (the
     run is cut where they still are), then points too near their predecessor dropped."""
     runs = [[o, X, n, T, closed] for o, (X, n, T, closed) in followed]
-    cos = np.cos(SMOOTH * crease_angle)
     for round_ in range(REFILL + 1):
         far = [_far(X, closed, SPACING[1] * (o.step or step_len)) for o, X, _, _, closed in runs]
         if not any(len(f) for f in far):
@@ -157,11 +160,9 @@ def _spaced(surface, followed, step_len, h, tol, crease_angle):
         Xi = np.concatenate([r[1][f] for f, r in zip(far, runs)])
         Xj = np.concatenate([r[1][(f + 1) % len(r[1])] for f, r in zip(far, runs)])
         ni = np.concatenate([r[2][f] for f, r in zip(far, runs)])
-        nj = np.concatenate([r[2][(f + 1) % len(r[2])] for f, r in zip(far, runs)])
         Tq = unit(Xj - Xi)
         reach = np.array([REACH * h * (runs[a][0].step or step_len) / step_len for a in k])
         Xq, nq, good = _moved(surface, 0.5 * (Xi + Xj), Tq, reach, tol, Xi, ni, crease_angle)
-        good &= (np.einsum("ij,ij->i", nq, ni) > cos) & (np.einsum("ij,ij->i", nq, nj) > cos)
         good &= (np.einsum("ij,ij->i", Xq - Xi, Tq) > 0) & (np.einsum("ij,ij->i", Xj - Xq, Tq) > 0)
         for a, r in enumerate(runs):
             m = (k == a) & good

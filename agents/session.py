@@ -141,6 +141,7 @@ class Session:
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
                                    s.explore_steps)
         self.traces.add_traced(self.carried.kept + followed)   # the last frame's outlines where nothing changed
+        self.traces.extend(followed, len(self.carried.kept))   # ... traced on from the followed ones' ends
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
         self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age else None

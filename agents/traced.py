@@ -14,6 +14,7 @@ from ..blackboard.board import FEATURE_KINDS, KIND_ID, _NEIGHBOURS, pack, pack_a
 SELF_GAP = 6        # steps along an outline within which its own points do not stop it
 _NONE = len(_NEIGHBOURS)        # no hit: beyond the last of the 27 cells
 NO_ARC = np.iinfo(np.int64).min  # a question without a step index
+NO_OWN = np.iinfo(np.int64).min  # a question without an outline of its own (ids may be negative: kept ones)
 
 
 class Points:
@@ -63,11 +64,11 @@ class Points:
 
 class Questions:
     """Which traced point of one kind is near each point P[i] (see :meth:`TracedPoints.near`):
-    radius, own outline id (-1: none), step index (NO_ARC: none) and normal (NaN: none)."""
+    radius, own outline id (NO_OWN: none), step index (NO_ARC: none) and normal (NaN: none)."""
     def __init__(self, kind, P, radius, own, arc, n):
         self.kind = int(kind)
         self.P, self.radius, self.own, self.arc = P, np.asarray(radius, float), own, arc
-        self.has_own, self.has_arc = own >= 0, arc != NO_ARC
+        self.has_own, self.has_arc = own != NO_OWN, arc != NO_ARC
         self.has_n = np.isfinite(n).all(axis=1)
         self.n = np.where(self.has_n[:, None], n, 0.0)
 
@@ -149,7 +150,7 @@ class Loop:
 class Loops:
     """A :class:`Loop` over questions and new points of several kinds: each kind's go to
     that kind's loop (its own table), with their order kept. ``kinds``, ``P``, ``radius``,
-    ``own`` (-1: none), ``arc`` (NO_ARC: none) and ``n`` (NaN: none) per question;
+    ``own`` (NO_OWN: none), ``arc`` (NO_ARC: none) and ``n`` (NaN: none) per question;
     ``new``: (kinds, P, n, tid, arc, step) per new point; ``upto`` per question."""
     def __init__(self, traced, kinds, P, radius, own, arc, n, new=None, upto=None):
         kinds = np.asarray(kinds, np.int64)
@@ -211,7 +212,7 @@ class TracedPoints:
         """The questions of a loop over tasks and the points it may keep (:class:`Loops`);
         own, arc and n may be None for all."""
         m = len(kinds)
-        own = np.full(m, -1, np.int64) if own is None else np.asarray(own, np.int64)
+        own = np.full(m, NO_OWN, np.int64) if own is None else np.asarray(own, np.int64)
         arc = np.full(m, NO_ARC, np.int64) if arc is None else np.asarray(arc, np.int64)
         n = np.full((m, 3), np.nan) if n is None else np.asarray(n, float)
         return Loops(self, kinds, np.asarray(P, float).reshape(-1, 3), np.broadcast_to(radius, (m,)), own, arc, n,

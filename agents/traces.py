@@ -85,6 +85,46 @@ class Traces:
             consume_crossed(self.board, self.surface, self.settings.crease_angle,
                             *(np.concatenate(a) for a in zip(*crossing)))
 
+    def extend(self, outlines, first):
+        """A task at each end of the open ``outlines``, kept as traced by :meth:`add_traced`
+        from its ``first``-th outline on: it traces on beyond the end as the outline's own
+        (the outline's points near the end do not stop it; its other end closes it), so an
+        outline that grew since the last frame (its cusp or the crease it ends at moved)
+        grows on, and one cut where it could not be followed joins up again. Ends beyond
+        the free agents are left as they are."""
+        ends = []                      # (outline index, forwards)
+        for j, o in enumerate(outlines):
+            if not o.closed and len(o.points) >= 2:
+                ends += [(j, True), (j, False)]
+        ends = ends[:len(self.pool)]
+        if not ends:
+            return
+        m = len(ends)
+        j = np.array([e[0] for e in ends])
+        fwd = np.array([e[1] for e in ends])
+        P = np.array([outlines[a].points[-1 if f else 0] for a, f in ends])
+        before = np.array([outlines[a].points[-2 if f else 1] for a, f in ends])
+        other = np.array([outlines[a].points[0 if f else -1] for a, f in ends])
+        n = np.array([outlines[a].normals[-1 if f else 0] for a, f in ends])
+        T = P - before
+        T /= np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
+        kinds = np.array([KIND_ID[outlines[a].kind] for a in j])
+        base = np.array([outlines[a].step or self.step_len for a in j])
+        length = np.array([len(outlines[a].points) for a in j])
+        zeros, pins = np.zeros((m, 3)), np.full((m,) + self.table.pins.shape[1:], -2, np.int32)
+        serial = self.serial + np.arange(m)
+        self.serial += m
+        # forwards from the last point the step indices go on from the outline's; backwards
+        # from the first they go below 0; its other end is where it would close
+        self.table.append(
+            m, kind=kinds, agents=np.array([self.pool.take(1) + [-1] for _ in range(m)]), serial=serial,
+            id=KEPT - (first + j), p=P, t=T, ref=zeros, last_n=n, start=other, start_t=T, start_ref=zeros,
+            start_n=n, h=base, base=base, fwd=fwd, paired=np.ones(m, bool), nf=np.where(fwd, length, 0), nb=0,
+            fwd_last=P, pins=pins, team_a=P, team_b=P, start_pins=pins, start_team_a=P, start_team_b=P,
+            has_sides=np.zeros(m, bool), side_x=zeros, side_dirs=np.zeros((m, 2, 3)),
+            side_facing=np.zeros((m, 2)), start_has_sides=np.zeros(m, bool), start_side_x=zeros,
+            start_side_dirs=np.zeros((m, 2, 3)), start_side_facing=np.zeros((m, 2)))
+
     def start(self, ids, iteration):
         """Refine the seeds ``ids`` (taken from the blackboard) and start a task on each
         valid one that no traced outline passes."""

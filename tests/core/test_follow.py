@@ -6,6 +6,7 @@ start, and looks for no crease the last frame found."""
 import numpy as np
 
 from blobtree_ink import model as M
+from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents import follow as FO
 from blobtree_ink.agents.surface import Surface
 from blobtree_ink.blackboard.board import KIND_ID
@@ -95,3 +96,27 @@ def test_going_on_follows_the_silhouettes_rather_than_tracing_them():
     starts = [o.points[0] for o in first.outlines() if o.kind == "silhouette"]
     for o in sil:
         assert min(np.linalg.norm(o.points[0] - s) for s in starts) < 0.5 * first.h
+
+
+def test_a_task_at_a_kept_outlines_end_traces_on_as_its_own():
+    """A silhouette kept with a gap (as a last frame's part that could not be followed)
+    is traced on from both ends of the gap by Traces.extend alone (no seed), as the
+    outline's own: its own last points do not stop the tasks, they meet across the gap."""
+    first = session(pair(0.8), EYE)
+    whole = max((o for o in first.outlines() if o.kind == "silhouette"), key=lambda o: len(o.points))
+    assert whole.closed
+    cut = FO.Outline(whole.kind, whole.points[8:-8], whole.normals[8:-8], False, whole.step)
+    s = Session(M.Evaluator(pair(0.8)), View(eye=EYE), Settings(resolution=20))     # no seed taken yet
+    s.traces.add_traced([cut])
+    s.traces.extend([cut], 0)
+    for _ in range(100):
+        if not len(s.traces):
+            break
+        s.traces.step()
+    grown = [o for o in s.traces.done[1:] if len(o.points)]
+    assert grown and not len(s.traces)
+    X = np.concatenate([o.points for o in grown])
+    assert np.abs(silhouette_residual(s.ev, X, EYE)).max() < 1e-6
+    gap = np.concatenate([whole.points[:8], whole.points[-8:]])
+    assert np.linalg.norm(gap[:, None] - X[None], axis=2).min(axis=1).max() < 0.5 * whole.step
+    assert len(X) < 2 * len(gap) < len(whole.points) / 2         # the gap, not round the loop again

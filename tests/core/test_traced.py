@@ -198,3 +198,18 @@ def test_a_model_far_from_the_origin_is_traced():
     check_on_surface(s, out[0])
     ang = np.sort(np.arctan2(out[0].points[:, 2] - c[2], out[0].points[:, 0] - c[0]))
     assert np.diff(np.r_[ang, ang[0] + 2 * np.pi]).max() < 0.2           # all the way round
+
+
+def test_an_outline_kept_from_the_last_frame_is_its_tasks_own(load_example):
+    """Kept outlines have negative ids (agents.traces.KEPT - k): a task that goes on
+    from one's end as its own is not stopped by its last steps, but is by its far part."""
+    from blobtree_ink.agents.traced import SELF_GAP
+    from blobtree_ink.agents.traces import KEPT
+    s = Session(load_example("sphere"), View(eye=(0.0, -6.0, 0.0)), Settings(resolution=8))
+    p = np.array([1.0, 0.0, 0.0])
+    s.traces.traced.remember(0, p, KEPT - 2, 0, np.array([1.0, 0, 0]))
+    near = p + [0.1 * s.step_len, 0, 0]
+    assert s.traces.traced.near(0, near, s.step_len, KEPT - 2, -1) is None                   # its own first point
+    assert s.traces.traced.near(0, near, s.step_len, KEPT - 2, SELF_GAP + 1) == (KEPT - 2, 0)   # its far part
+    assert s.traces.traced.near(0, near, s.step_len, KEPT - 3, -1) == (KEPT - 2, 0)          # another kept one
+    assert s.traces.traced.near(0, near, s.step_len, None) == (KEPT - 2, 0)                  # no own outline
