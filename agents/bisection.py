@@ -6,7 +6,7 @@ once per system iteration)."""
 import numpy as np
 
 from ..model.tolerances import CONVERGED, TRIAL, on_surface
-from .surface import CREASE, CURV, WEDGE, crease_estimate, unit
+from .surface import CREASE, CURVED, WEDGE, crease_estimate, unit
 
 CREASE_NUDGE = 0.05          # crease trial points step this fraction of the bracket off the estimate
 WIDE_NUDGE = 0.25            # ... and this much after an estimate that left the bracket above 0.7
@@ -120,7 +120,7 @@ def bisect_some(surface, kinds, A, B, ref, tol, iters=60, crease_angle=None, anc
                 cos = np.einsum("ij,ij->i", surface.normals(gA[j]), surface.normals(gB[j]))
                 far = np.minimum(np.abs(surface.signs(kinds[j], A[j], gA[j], ref[j])),
                                  np.abs(surface.signs(kinds[j], B[j], gB[j], ref[j])))
-                scale = np.where(kinds[j] == CURV, surface.scale, 1.0)
+                scale = np.where(np.isin(kinds[j], CURVED), surface.scale, 1.0)
                 tiny = w[sl] < 1e-3 * width0[j]
                 dead[sl[(cos < np.cos(0.5 * crease_angle)) & ((far * scale > 0.05) | tiny)]] = True
         valid[live[dead]] = False
@@ -165,8 +165,8 @@ def bisect_some(surface, kinds, A, B, ref, tol, iters=60, crease_angle=None, anc
         M2, gM2, sM2, rows2, on2, exact2 = M[m:], gM[m:], sM[m:], rows[m:], on[m:], exact[m:]
         M, gM, sM, on, exact = M[:m], gM[:m], sM[:m], on[:m], exact[:m]
         # a smooth crossing is found when its signed quantity vanishes (ZERO_SIGN;
-        # n.v is a cosine, mean curvature is scaled by the model's size)
-        hit = ~jump[live] & (np.abs(sM) * np.where(kinds[live] == CURV, surface.scale, 1.0) < ZERO_SIGN)
+        # n.v is a cosine, a curvature is scaled by the model's size)
+        hit = ~jump[live] & (np.abs(sM) * np.where(np.isin(kinds[live], CURVED), surface.scale, 1.0) < ZERO_SIGN)
         if hit.any():
             ih = live[hit]
             A[ih], gA[ih], B[ih], gB[ih] = M[hit], gM[hit], M[hit], gM[hit]

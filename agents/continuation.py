@@ -8,10 +8,12 @@ takes as it is where the model is the same. The next session (:func:`carried`):
 
 - keeps as traced the last frame's outlines outside the parts of space where the field
   changed (agents.changes): the creases and curvature-sign lines there, and the
-  silhouettes too where the eye stayed where it was;
+  silhouettes and suggestive contours too where the eye stayed where it was
+  (blackboard.board.VIEW_DEPENDENT);
 - follows the silhouettes there when the eye moved (agents.follow: every point moved
-  onto this frame's silhouette in one batch) and seeds the parts it could not follow
-  from the last frame's points: every SEED_EVERY-th point brackets across the
+  onto this frame's silhouette in one batch) and seeds the parts it could not follow,
+  and the suggestive contours, from the last frame's points: every SEED_EVERY-th point
+  brackets across the
   outline, BRACKETS cells to either side, refined onto this frame's outline as the
   polygon edges' seeds are (an outline that moved further is found from the polygon
   edges, as in a first frame);
@@ -27,6 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..blackboard.board import VIEW_DEPENDENT
 from .changes import EVERYWHERE, changed
 from .outline import Outline
 
@@ -93,7 +96,7 @@ def carried(previous, model, view, settings):
         inside = np.zeros(len(o.points), bool) if region is None else region.contains(o.points)
         # where the field changed, the agents look afresh (polygon edges, the detail phase);
         # elsewhere what did not move is kept and the silhouettes of a moved eye seeded
-        kept = out.kept if o.kind != "silhouette" or same_eye else out.seeds
+        kept = out.kept if o.kind not in VIEW_DEPENDENT or same_eye else out.seeds
         if not inside.any():
             kept.append(o)
             continue

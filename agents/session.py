@@ -26,11 +26,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
-from ..blackboard.board import FEATURE_KINDS, KIND_ID, from_mesh
+from ..blackboard.board import FEATURE_KINDS, KIND_ID, VIEW_DEPENDENT, from_mesh
 from ..blackboard.edges import process_edges
 from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
-from ..model.curvature import curvature
+from ..model.curvature import curvature, radial
 from ..model.tolerances import OUTLINE
 from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
@@ -56,7 +56,8 @@ class Settings:
     step: float = 0.3                  # trace step, in voxel sizes
     tolerance: float = OUTLINE         # outline location, as a fraction of the model's size
     crease_angle: float = float(np.radians(35.0))
-    kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines
+    kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines, "suggestive" for
+                                                 # suggestive contours
     explore_steps: int = 16
     explore_detail: bool = True        # after the edge seeds, explore voxels flagged for detail
     subdivide: int = 6                 # fine cells per side of the subdivided voxels (0: none)
@@ -108,10 +109,11 @@ class Session:
         self.vertex_curvature = curv
         self.h = self.bb.h
         changed = self.carried.changed         # where the field changed since the last frame (None: nowhere)
-        feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle)
+        kr = radial(curv, view.towards_eye(self.mesh.vertices))[0] if "suggestive" in s.kinds else None
+        feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle, radial=kr)
         for kind in s.kinds:
             pts, a, b = feats[kind]
-            if kind != "silhouette" and changed is not EVERYWHERE:
+            if kind not in VIEW_DEPENDENT and changed is not EVERYWHERE:
                 # creases and curvature-sign lines do not depend on the eye: where the field
                 # is the last frame's, so are they (kept), and its seeds would find them again
                 here = np.zeros(len(pts), bool) if changed is None else changed.contains(pts, pad=self.h)
@@ -127,8 +129,10 @@ class Session:
             self._walls, centres = detail.subtracted_walls(self.surface, self.h, self.ev.model.root)
             detail.subdivide(self.bb, self.surface, s, self._walls, centres)
         # the last frame's silhouettes followed where the eye moved; what was lost seeds the tracer
-        followed, lost = follow(self.surface, self.carried.seeds, self.h, self.step_len, self.tol, s.crease_angle)
-        a, b, kinds = seed_brackets(lost, self.h)
+        moved = self.carried.seeds
+        followed, lost = follow(self.surface, [o for o in moved if o.kind == "silhouette"], self.h, self.step_len,
+                                self.tol, s.crease_angle)
+        a, b, kinds = seed_brackets(lost + [o for o in moved if o.kind != "silhouette"], self.h)
         for kind in sorted(set(kinds)):
             m = np.array(kinds) == kind
             self.bb.add_features(0.5 * (a[m] + b[m]), a[m], b[m], kind)

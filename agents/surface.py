@@ -4,16 +4,19 @@ normals, and the signed quantities whose zero sets are the feature outlines.
 Kinds (the order of blackboard.board.FEATURE_KINDS): 0 silhouette, where the outward
 normal is perpendicular to the direction to the eye; 1 crease, where the normal jumps
 (signed against the two side normals of the bracket: ``ref = n_a - n_b``); 2 curvature
-sign, where the mean curvature changes sign.
+sign, where the mean curvature changes sign; 3 suggestive contour (DeCarlo et al. 2003),
+where the radial curvature (model.curvature.radial: the surface's curvature along the
+view direction projected onto it) changes sign, growing towards the eye.
 """
 import numpy as np
 
-from ..model.curvature import along_points, along_values, curvature
+from ..model.curvature import along_points, along_values, curvature, radial
 from ..model.projection import newton
 from .asks import Ask, run
 from .steering import unit
 
-SIL, CREASE, CURV = 0, 1, 2
+SIL, CREASE, CURV, SUG = 0, 1, 2, 3
+CURVED = (CURV, SUG)         # kinds whose signed quantity is a curvature (scaled by the model's size)
 MARCH = 16                   # samples towards the anchor for a point on a flat field
 NEWTON_ITERS = 6             # Newton iterations of a silhouette corrector before it gives up
 WEDGE = 3.0                  # a crease estimate may lie this many bracket widths from its midpoint
@@ -24,6 +27,11 @@ ZERO_MEAN = 0.02             # ... on the zero: |k1 + k2| at most this share of 
 CROSSES = 0.005              # ... and across it: the mean curvature over |k1| + |k2| at PROBE to either side
 PROBE = 0.01                 # of the line (a share of the model's size) has opposite signs, each at least
                              # CROSSES (a twisted face, a helicoid, has zero mean curvature all over)
+# a suggestive contour is drawn where it is one (DeCarlo et al. 2003) and shows: on a curved part (FLAT)
+# facing the eye, the view not head on (|w|, the view direction's part in the tangent plane, at least
+# OBLIQUE), and the radial curvature over |k1| + |k2| at PROBE to either side along w is at least CROSSES
+# towards the eye and at most -CROSSES away from it (its derivative along w is positive)
+OBLIQUE = 0.1
 
 
 class Surface:
@@ -180,26 +188,44 @@ class Surface:
         m = kinds == CURV
         if m.any():
             s[m] = curvature(self.ev, P[m], g[m])["mean"]
+        m = kinds == SUG
+        if m.any():
+            s[m] = radial(curvature(self.ev, P[m], g[m]), self.view.towards_eye(P[m]))[0]
         return s
 
     def curvature_crossings(self, X, g, T):
         """Whether points X (gradients g, line tangents T) of a curvature-sign line lie where
         the surface turns from convex to concave (FLAT, ZERO_MEAN, CROSSES): the line,
         not noise of a near-zero curvature on a flat or nearly flat part."""
+        if len(X) == 0:
+            return np.zeros(0, bool)
+        m = len(X)
+        c, here, _, _ = self._probed(X, g, unit(np.cross(self.normals(g), T)))
+        mean = c["k1"] + c["k2"]
+        return _crossing(mean, here, m, self.scale) & (np.abs(mean[:m]) <= ZERO_MEAN * here[:m])
+
+    def suggestive_valid(self, X, g):
+        """Whether points X (gradients g) of a zero of the radial curvature are suggestive
+        contour points that show (FLAT, OBLIQUE, CROSSES): facing the eye, seen
+        obliquely, the radial curvature growing towards the eye across the line."""
         m = len(X)
         if m == 0:
             return np.zeros(0, bool)
-        W = unit(np.cross(self.normals(g), T))
+        n, v = self.normals(g), self.view.towards_eye(X)
+        w = v - np.einsum("ij,ij->i", v, n)[:, None] * n
+        c, here, P, _ = self._probed(X, g, unit(w))          # + side: towards the eye
+        kr = radial(c, self.view.towards_eye(np.concatenate([X, P])))[0]
+        ok = _crossing(kr, here, m, self.scale, ordered=True)
+        return ok & (np.einsum("ij,ij->i", n, v) > 0) & (np.linalg.norm(w, axis=1) >= OBLIQUE)
+
+    def _probed(self, X, g, W):
+        """The curvature at X and at PROBE to either side along W (projected onto the
+        surface), one batch: the curvature dict over the 3m points, |k1| + |k2| there,
+        and the probes with their gradients."""
         d = PROBE * self.scale * W
         P, _, gP = self.project(np.concatenate([X + d, X - d]), anchor=np.concatenate([X, X]))
         c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([g, gP]))
-        size = np.abs(c["k1"]) + np.abs(c["k2"])
-        rel = np.abs(c["k1"] + c["k2"]) / np.where(size > 0, size, 1.0)
-        signed = (c["k1"] + c["k2"]) / np.where(size > 0, size, 1.0)
-        here, plus, minus = size[:m], signed[m:2 * m], signed[2 * m:]
-        ok = (here * self.scale >= FLAT) & (rel[:m] <= ZERO_MEAN)
-        ok &= (plus * minus < 0) & (np.minimum(np.abs(plus), np.abs(minus)) >= CROSSES)
-        return ok & np.isfinite(size[:m])
+        return c, np.abs(c["k1"]) + np.abs(c["k2"]), P, gP
 
     def ends(self, kinds, A, B, ref, anchor=None):
         """Bracket ends projected onto the surface, with their gradients and signed
@@ -209,6 +235,18 @@ class Surface:
         P, _, g = self.project(np.concatenate([A, B]), anchor=anchor)      # one batch
         s = self.signs(np.concatenate([kinds, kinds]), P, g, np.concatenate([ref, ref]))
         return P[:m], g[:m], s[:m], P[m:], g[m:], s[m:]
+
+
+def _crossing(q, size, m, scale, ordered=False):
+    """Whether a curvature quantity ``q`` (over 3m points: the m points, then the probes
+    to the + side, then the - side; ``size``: |k1| + |k2| there) crosses zero at each
+    point: the point is curved (FLAT, against the model's size), the probes' q over size
+    have opposite signs, each at least CROSSES (``ordered``: the + side's positive)."""
+    rel = q / np.where(size > 0, size, 1.0)
+    plus, minus = rel[m:2 * m], rel[2 * m:]
+    ok = plus > CROSSES if ordered else (plus * minus < 0)
+    ok &= (minus < -CROSSES) if ordered else (np.minimum(np.abs(plus), np.abs(minus)) >= CROSSES)
+    return ok & (size[:m] * scale >= FLAT) & np.isfinite(size[:m])
 
 
 def newton_update(X, Q, live, J, r, reach, tol, ok):

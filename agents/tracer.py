@@ -18,7 +18,7 @@ from ..model.tolerances import on_surface
 from . import sheets
 from .asks import run
 from .bisection import bisect, bisect_some
-from .surface import CREASE, CURV, SIL, WEDGE, crease_estimate, unit
+from .surface import CREASE, CURV, SIL, SUG, WEDGE, crease_estimate, unit
 
 SIDE = 0.05         # a crease team's agents keep this share of the step to either side of it
 ON_SILHOUETTE = 1e-7  # |n.v| of a silhouette point (a Newton-located one: about 1e-12)
@@ -190,6 +190,9 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     cv = np.flatnonzero(valid & (kinds == CURV))
     if len(cv):
         valid[cv] = surface.curvature_crossings(X[cv], gX[cv], tangent[cv])
+    sg = np.flatnonzero(valid & (kinds == SUG))
+    if len(sg):
+        valid[sg] = surface.suggestive_valid(X[sg], gX[sg])
     return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
@@ -306,6 +309,9 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     cv = np.flatnonzero(ok & (kinds == CURV))
     if len(cv):             # a curvature-sign line ends where the surface stops turning across it
         ok[cv] = surface.curvature_crossings(X[cv], gX[cv], Tn[cv])
+    sg = np.flatnonzero(ok & (kinds == SUG))
+    if len(sg):             # a suggestive contour ends where it stops being one, or turns away
+        ok[sg] = surface.suggestive_valid(X[sg], gX[sg])
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok, pins)

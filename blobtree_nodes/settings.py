@@ -138,6 +138,11 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         name="Curvature", default="curvature" in _RunSettings.kinds,
         description="Trace Feature Outlines and Find Features trace curvature-sign lines: where the surface "
                     "turns from convex to concave (layer Curvature; none across flat parts)")
+    line_suggestive: bpy.props.BoolProperty(
+        name="Suggestive", default="suggestive" in _RunSettings.kinds,
+        description="Trace Feature Outlines and Find Features trace suggestive contours: where the surface, "
+                    "seen from a little nearer the viewer, would turn away from it (zeros of the radial "
+                    "curvature, DeCarlo et al. 2003; layer Suggestive)")
     use_camera: bpy.props.BoolProperty(
         name="From Camera", default=True,
         description="Illustrate the model as the scene camera sees it (else as the 3D viewport does)")

@@ -96,3 +96,17 @@ def curvature(ev, P, grad=None):
         a[bad] = np.nan
     return {"normal": nrm, "k1": k1, "k2": k2, "mean": 0.5 * (k1 + k2), "gauss": k1 * k2,
             "dir1": d1, "dir2": d2, "grad_norm": gn}
+
+
+def radial(c, towards_eye):
+    """The radial curvature (DeCarlo et al. 2003) of points with curvature ``c`` (a
+    :func:`curvature` dict) seen along ``towards_eye`` (unit, per point): the normal
+    curvature in the direction w, the view direction projected onto the tangent plane,
+    k1 cos^2 + k2 sin^2 of w's angle to dir1; with |w| (0 where the surface faces the
+    eye head on, where it has no direction: NaN there)."""
+    a = np.einsum("ij,ij->i", towards_eye, c["dir1"])
+    b = np.einsum("ij,ij->i", towards_eye, c["dir2"])
+    ww = a * a + b * b
+    with np.errstate(invalid="ignore", divide="ignore"):
+        kr = np.where(ww > 0, (c["k1"] * a * a + c["k2"] * b * b) / ww, np.nan)
+    return kr, np.sqrt(ww)

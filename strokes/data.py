@@ -3,8 +3,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-LAYERS = ("Silhouette", "Crease", "Curvature", "Hatching", "Chains", "Short Strokes", "Stipples", "Single Strokes")
-LAYER_OF_KIND = {"silhouette": "Silhouette", "crease": "Crease", "curvature": "Curvature"}
+LAYERS = ("Silhouette", "Crease", "Curvature", "Suggestive", "Hatching", "Chains", "Short Strokes", "Stipples",
+          "Single Strokes")
+LAYER_OF_KIND = {"silhouette": "Silhouette", "crease": "Crease", "curvature": "Curvature", "suggestive": "Suggestive"}
 STROKE_LAYERS = ("Hatching", "Chains", "Short Strokes", "Stipples")      # the style's stroke layers
 
 

@@ -227,32 +227,33 @@ def test_the_command_line_and_the_operator_draw_the_same_strokes(ext, example, t
 
 def test_curvature_lines_through_the_command_line_and_the_panel_toggles(ext, example, tmp_path):
     """--lines picks the kinds of outline the agents trace, as the sidebar's Lines toggles
-    do; both draw the pear's curvature-sign lines (its concave neck) on their own layer,
-    the same strokes."""
+    do; both draw the pear's curvature-sign lines (its concave neck) and suggestive
+    contours on their own layers, the same strokes."""
     code = ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--size", "128", "--grid", "12",
-                         "--lines", "curvature,silhouette"], out=io.StringIO())
+                         "--lines", "suggestive,curvature,silhouette"], out=io.StringIO())
     assert code == 0
     bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "pear.blend"))
     gp = bpy.data.objects["pear Ink"].data
     count = {layer.name: len(layer.frames[0].drawing.strokes) if len(layer.frames) else 0 for layer in gp.layers}
-    assert count["Curvature"] > 0 and count["Silhouette"] > 0 and count.get("Crease", 0) == 0
+    assert count["Curvature"] > 0 and count["Silhouette"] > 0 and count["Suggestive"] > 0, count
+    assert count.get("Crease", 0) == 0
     cli = SM.from_grease_pencil(bpy.data.objects["pear Ink"])
     bpy.data.objects.remove(bpy.data.objects["pear Ink"])
     bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
     tree = bpy.data.node_groups["pear"]
     tree.ink.grid_resolution = 12
-    tree.ink.line_crease, tree.ink.line_curvature = False, True
+    tree.ink.line_crease, tree.ink.line_curvature, tree.ink.line_suggestive = False, True, True
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
     op = SM.from_grease_pencil(bpy.data.objects["pear Ink"])
     _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example("pear"))))
     assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
     # with every kind off there is nothing to trace: a named error, the drawing kept
-    tree.ink.line_silhouette = tree.ink.line_curvature = False
-    with pytest.raises(RuntimeError, match="must be one or more of silhouette, crease, curvature, got none"):
+    tree.ink.line_silhouette = tree.ink.line_curvature = tree.ink.line_suggestive = False
+    with pytest.raises(RuntimeError, match="must be one or more of silhouette, crease, curvature, suggestive, got none"):
         bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES")
     assert SM.differences(SM.from_grease_pencil(bpy.data.objects["pear Ink"]), op, dist=0, count=0, rel=0, q=1.0) == []
 
 
 def test_bad_lines_are_named(ext, example, tmp_path, capsys):
     assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--lines", "edges"]) == 1
-    assert "--lines must be one or more of silhouette, crease, curvature, got edges" in capsys.readouterr().err
+    assert "--lines must be one or more of silhouette, crease, curvature, suggestive, got edges" in capsys.readouterr().err

@@ -363,20 +363,25 @@ def test_a_background_animation_render_of_an_example_scene(user_dir, tmp_path):
     assert "Traceback" not in p.stdout + p.stderr
 
 
-def test_real_ui_an_artist_turns_on_curvature_lines(user_dir, tmp_path):
-    """Issue #30 in the real UI (tests/real/ui/lines.py): a click on the sidebar's
-    Curvature toggle (Silhouette and Crease are on by default), then Trace Feature
-    Outlines from menu search: the pear's curvature-sign lines are drawn on their layer,
-    and show as ink on screen."""
+def test_real_ui_an_artist_turns_on_curvature_lines_and_suggestive_contours(user_dir, tmp_path):
+    """Issue #30 in the real UI (tests/real/ui/lines.py): clicks on the sidebar's
+    Curvature and Suggestive toggles (Silhouette and Crease are on by default), then
+    Trace Feature Outlines from menu search: the pear's curvature-sign lines and
+    suggestive contours are drawn on their layers, and show as ink on screen."""
     out, facts = run_ui_script("lines.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
     assert facts["lines_before"] == ["silhouette", "crease"]
     assert facts["lines_after"] == ["silhouette", "crease", "curvature"]     # a click adds one kind
+    assert facts["lines_last"] == ["silhouette", "crease", "curvature", "suggestive"]
     assert facts["state"] == "done"
-    assert facts["counts"]["Curvature"] > 0 and facts["counts"]["Silhouette"] > 0
+    assert all(facts["counts"][k] > 0 for k in ("Silhouette", "Curvature", "Suggestive")), facts["counts"]
     for name in ("lines_1_sidebar.png", "lines_2_curvature_on.png", "lines_3_traced.png"):
         shutil.copy(os.path.join(out, name), artifact(name))
     shot = read_png(artifact("lines_3_traced.png")).astype(float).mean(axis=2) / 255
-    pts = np.array(json.load(open(os.path.join(out, "lines_points.json")))["curvature"], float)
+    drawn = json.load(open(os.path.join(out, "lines_points.json")))
+    pts = np.array(drawn["curvature"], float)
     assert len(pts) >= 5                                  # the visible arc where the stem meets the body
     assert np.median(_darkest(shot, pts)) < 0.3           # the curvature line is ink on screen
+    pts = np.array(drawn["suggestive"], float)
+    assert len(pts) >= 5
+    assert np.median(_darkest(shot, pts)) < 0.3           # and so are the suggestive contours

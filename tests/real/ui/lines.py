@@ -1,5 +1,5 @@
-"""Real-UI script: an artist turns on curvature-sign lines in the sidebar and traces
-them, with the clicks and keys sent by xdotool. Python set-up (and why) is marked [Python].
+"""Real-UI script: an artist turns on curvature-sign lines and suggestive contours in
+the sidebar and traces them, with the clicks and keys sent by xdotool. Python set-up (and why) is marked [Python].
 
 1. Past the splash (Escape); the extension enabled, the default cube deleted and the
    pear imported with its preview [Python: the file browser is not what this test is
@@ -7,13 +7,14 @@ them, with the clicks and keys sent by xdotool. Python set-up (and why) is marke
    The view framed on the pear: the preview selected [Python], F3 "frame selected",
    Alt+A.
 2. The mouse over the 3D viewport, N shows the sidebar [Python: its BlobTree Ink tab].
-   A screenshot; the Lines row is found on it: the first row of the sidebar that is
-   mostly the selected-toggle blue (Silhouette and Crease are on, two thirds of the
-   row; Curvature is the grey third right of them). A click on Curvature.
+   A screenshot; the Lines toggles are found on it: two a row, the first row of the
+   sidebar that is mostly the selected-toggle blue (Silhouette and Crease are on),
+   Curvature the grey toggle below Silhouette. A click on Curvature, then one on
+   Suggestive (right of it).
 3. F3, "trace feature outlines", Return; the run's end awaited; a screenshot.
 
-Facts go to facts.json; the Curvature layer's points projected into the viewport
-(screen pixels) to lines_points.json."""
+Facts go to facts.json; the Curvature and Suggestive layers' points projected into the
+viewport (screen pixels) to lines_points.json."""
 import json
 import os
 import sys
@@ -31,18 +32,30 @@ ENDED = ("done", "stopped", "failed", "tree edited", "cancelled")
 TOGGLE_ON = np.array([71, 114, 179])        # the default theme's selected toggle (inner_sel), on screen
 
 
+def blue(px, y, x0, x1):
+    return np.abs(px[y, x0:x1] - TOGGLE_ON).max(axis=-1) < 30
+
+
 def lines_row(px, left, top, width, height):
     """Screen (x0, x1, y) of the first sidebar row mostly in the selected-toggle blue:
-    the Lines row, its Silhouette and Crease toggles on (x0..x1)."""
+    the Lines toggles' first row, Silhouette and Crease on (x0..x1; y its top)."""
     for y in range(top, top + height):
-        blue = np.flatnonzero(np.abs(px[y, left:left + width] - TOGGLE_ON).max(axis=1) < 30)
-        if len(blue) > 0.5 * width:
-            return left + int(blue.min()), left + int(blue.max()), y
+        on = np.flatnonzero(blue(px, y, left, left + width))
+        if len(on) > 0.5 * width:
+            return left + int(on.min()), left + int(on.max()), y
     return None
 
 
+def below(px, x, y):
+    """The first screen row under the blue toggle at (x, y) that is not blue: the
+    toggle's bottom edge."""
+    while blue(px, y, x, x + 1).all():
+        y += 1
+    return y
+
+
 def lines(tree):
-    return [k for k in ("silhouette", "crease", "curvature") if getattr(tree.ink, f"line_{k}")]
+    return [k for k in ("silhouette", "crease", "curvature", "suggestive") if getattr(tree.ink, f"line_{k}")]
 
 
 def run():
@@ -93,12 +106,17 @@ def run():
     if row is None:
         raise AssertionError("no Lines row with its toggles on in the sidebar")
     x0, x1, y = row
-    cx = x1 + (x1 - x0 + 1) // 4                          # the middle of the third toggle, right of the two on
-    yield {"action": "mouse", "x": cx, "y": y + 3, "click": 1, "pause": 0.5}
+    cx = x0 + (x1 - x0) // 4                              # the middle of the left column: Silhouette
+    cy = below(px, cx, y) + 8                             # ... and, in the row below it, Curvature
+    record(curvature_click=(cx, cy))
+    yield {"action": "mouse", "x": cx, "y": cy, "click": 1, "pause": 0.5}
     yield from until(lambda: tree.ink.line_curvature, 5, "a click on the Curvature toggle")
+    record(lines_after=lines(tree))
+    yield {"action": "mouse", "x": cx + (x1 - x0) // 2, "y": cy, "click": 1, "pause": 0.5}
+    yield from until(lambda: tree.ink.line_suggestive, 5, "a click on the Suggestive toggle")
     yield from redrawn(view3d)
     yield {"action": "screenshot", "name": "lines_2_curvature_on.png"}
-    record(lines_after=lines(tree))
+    record(lines_last=lines(tree))
 
     # --- 3. trace ---------------------------------------------------------------------------------
     ill = sys.modules[EXT + ".operators.illustrate"]
@@ -107,11 +125,12 @@ def run():
     yield from until(lambda: ill.last_run.get("state") in ENDED, 240, "the trace to end")
     ink = bpy.data.objects[f"{tree.name} Ink"]
     record(state=ill.last_run.get("state"),
-           counts={k: len(drawing_of(ink, k)) for k in ("Silhouette", "Crease", "Curvature")})
+           counts={k: len(drawing_of(ink, k)) for k in ("Silhouette", "Crease", "Curvature", "Suggestive")})
     yield from redrawn(view3d)
     yield {"action": "screenshot", "name": "lines_3_traced.png"}
     with open(os.path.join(OUT, "lines_points.json"), "w") as fh:
-        json.dump({"curvature": in_viewport(win, vregion, rv3d, ink, drawing_of(ink, "Curvature"))}, fh)
+        json.dump({k.lower(): in_viewport(win, vregion, rv3d, ink, drawing_of(ink, k)) for k in ("Curvature", "Suggestive")},
+                  fh)
 
 
 Steps(run())
