@@ -13,10 +13,9 @@ takes as it is where the model is the same. The next session (:func:`carried`):
 - follows the silhouettes there when the eye moved (agents.follow: every point moved
   onto this frame's silhouette in one batch) and seeds the parts it could not follow,
   and the suggestive contours, from the last frame's points: every SEED_EVERY-th point
-  brackets across the
-  outline, BRACKETS cells to either side, refined onto this frame's outline as the
-  polygon edges' seeds are (an outline that moved further is found from the polygon
-  edges, as in a first frame);
+  brackets across the outline, BRACKETS cells to either side, refined onto this
+  frame's outline as the polygon edges' seeds are (an outline that moved further is
+  found from the polygon edges, as in a first frame);
 - looks afresh where the field changed, as in a first frame (everything when the
   tree's shape changed);
 - looks for the features smaller than a cell (the detail phase) only where the field
@@ -65,6 +64,7 @@ class Continuation:
     outlines: tuple                # agents.outline.Outline, stitched
     init: Init = None
     age: int = 0                   # frames since a session looked for small features everywhere
+    complete: bool = True          # the session ran to its end (not to a time or iteration budget)
 
 
 @dataclass
@@ -77,6 +77,8 @@ class Carried:
     seeds: list = field(default_factory=list)
     changed: object = EVERYWHERE
     age: int = 0                   # frames since the detail phase last looked everywhere (0: this one does)
+    complete: bool = False         # the last frame's session ran to its end: its creases and curvature-sign
+                                   # lines where the field is the same are all there are
 
 
 def carried(previous, model, view, settings):
@@ -89,13 +91,14 @@ def carried(previous, model, view, settings):
     init = previous.init if region is None and previous.init is not None and \
         previous.init.resolution == settings.resolution else None
     age = previous.age + 1
-    out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age)
+    out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age, complete=previous.complete)
     if region is EVERYWHERE:
         return out                      # as from scratch
     for o in previous.outlines:
         inside = np.zeros(len(o.points), bool) if region is None else region.contains(o.points)
         # where the field changed, the agents look afresh (polygon edges, the detail phase);
-        # elsewhere what did not move is kept and the silhouettes of a moved eye seeded
+        # elsewhere what did not move is kept, and the lines a moved eye sees go on from here
+        # (the session follows the silhouettes and seeds the rest)
         kept = out.kept if o.kind not in VIEW_DEPENDENT or same_eye else out.seeds
         if not inside.any():
             kept.append(o)

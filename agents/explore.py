@@ -2,12 +2,13 @@
 surface around a voxel (Reynolds wander in the tangent plane, with containment that
 seeks the voxel's centre when it strays) and identifies feature points by comparing
 each step with the previous one: a sign change of n.v (silhouette), of the mean
-curvature, or a jump of the normal (crease). Found points go to the blackboard, where
+curvature, of the radial curvature on the side facing the eye (suggestive contour), or
+a jump of the normal (crease). Found points go to the blackboard, where
 the manager turns them into tracing tasks."""
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS
-from ..model.curvature import curvature
+from ..model.curvature import curvature, radial
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from . import steering as st
 from .columns import Columns
@@ -21,7 +22,7 @@ class Explorers:
 
     A table (agents.columns) holds one row per exploring agent: its agent, voxel and
     that voxel's centre (or its start point), its position, heading and normal, its
-    last n.v and mean curvature (compared with the next step's), and the steps it has
+    last n.v, mean and radial curvature (compared with the next step's), and the steps it has
     taken. ``queue`` lists the voxel rows waiting for an explorer, in order; a voxel is
     explored at most once (``explored``); ``starts`` maps a queued voxel to a point to
     start from instead of its centre (a probe on a sheet the polygonisation missed, a
@@ -32,7 +33,7 @@ class Explorers:
         self.kinds, self.crease_angle, self.steps = tuple(kinds), crease_angle, steps
         v = ((3,), float)
         self.table = Columns(agent=((), np.int64), voxel=((), np.int64), centre=v, p=v, d=v, n=v,
-                             s_sil=((), float), s_curv=((), float), steps=((), np.int64))
+                             s_sil=((), float), s_curv=((), float), s_sug=((), float), steps=((), np.int64))
         self.queue = []
         self.explored = set()
         self.starts = {}
@@ -83,9 +84,9 @@ class Explorers:
         n = surface.normals(g)
         d = st.unit(np.cross(n, self.rng.normal(size=(len(P), 3))))
         sil = np.einsum("ij,ij->i", n, surface.view.towards_eye(P))
-        curv = curvature(surface.ev, P, g)["mean"]
+        c = curvature(surface.ev, P, g)
         self.table.append(len(rows), agent=self.pool.take(len(rows)), voxel=rows, centre=centres, p=P, d=d, n=n,
-                          s_sil=sil, s_curv=curv, steps=0)
+                          s_sil=sil, s_curv=c["mean"], s_sug=radial(c, surface.view.towards_eye(P))[0], steps=0)
         self.started += len(rows)
 
     def step(self):
@@ -113,13 +114,16 @@ class Explorers:
             found["silhouette"] = (ex.s_sil > 0) != (sil > 0)
         if "curvature" in self.kinds:
             found["curvature"] = np.isfinite(curv) & ((ex.s_curv > 0) != (curv > 0))
+        sug = radial(cq, surface.view.towards_eye(Q))[0]
+        if "suggestive" in self.kinds:              # on the side facing the eye
+            found["suggestive"] = np.isfinite(sug) & ((ex.s_sug > 0) != (sug > 0)) & (sil > 0) & (ex.s_sil > 0)
         if "crease" in self.kinds:
             found["crease"] = np.arccos(np.clip(np.einsum("ij,ij->i", N, n), -1, 1)) > self.crease_angle
         for kind in FEATURE_KINDS:
             if kind in found and found[kind].any():
                 a, b = P[found[kind]], Q[found[kind]]
                 bb.add_features(0.5 * (a + b), a, b, kind)
-        ex.p, ex.d, ex.n, ex.s_sil, ex.s_curv = Q, D, n, sil, curv
+        ex.p, ex.d, ex.n, ex.s_sil, ex.s_curv, ex.s_sug = Q, D, n, sil, curv, sug
         ex.steps += 1
         done = ex.steps >= self.steps
         self.pool.give_back(ex.agent[done].tolist())

@@ -5,12 +5,13 @@ the outline through the old point), where tracing them again takes a sequential 
 per point.
 
 A followed point must pass the tests a trace step passes (converged, on the surface,
-|n.v| <= tracer.ON_SILHOUETTE, on the sheet its old point was on: its normal predicted
-back there through the Hessian is the old one, tracer.SMOOTH) and lie within REACH cells
-of where it was; two neighbours stay one outline where the second lies ahead of the
-first along the old outline and they lie at most SPACING[1] steps apart once up to
-REFILL rounds of points were put between them (a point nearer its predecessor than
-SPACING[0] steps is dropped). The runs of followed points are kept as traced
+on the silhouette and on the sheet its old point was on: tracer.silhouette_kept) and
+lie within REACH cells of where it was; two neighbours stay one outline where the
+second lies ahead of the first along the old outline and at most tracer.FAR steps away.
+Where neighbours are more than SPACING[1] steps apart, up to REFILL rounds of points are
+put between them (the run is cut where they still are); then a point nearer its
+predecessor than SPACING[0] steps is dropped (so neighbours end up at most SPACING[0]
++ SPACING[1] steps apart). The runs of followed points are kept as traced
 (agents.continuation: they keep their order, so a stroke's start and direction stay
 put), and a tracing task at each end of an open run traces on beyond it as the
 outline's own (agents.traces.Traces.extend): where the outline grew (its cusp or the
@@ -26,9 +27,10 @@ from ..model.tolerances import on_surface
 from .asks import run
 from .outline import Outline
 from .steering import unit
-from .tracer import ON_SILHOUETTE, SMOOTH
+from .continuation import BRACKETS
+from .tracer import FAR, silhouette_kept
 
-REACH = 0.3              # cells a followed point may move (as the seeds' widest bracket: agents.continuation)
+REACH = BRACKETS[1]      # cells a followed point may move (as far as the seeds' widest bracket reaches)
 SPACING = (0.5, 1.5)     # steps between neighbours of a followed outline, at least and at most
 REFILL = 1               # rounds of points put between neighbours too far apart
 SHORTEST = 3             # points of the shortest run kept (a shorter one is left to the tracer)
@@ -58,8 +60,8 @@ def follow(surface, outlines, h, step_len, tol, crease_angle):
         runs, gaps = _runs(X[rows], n[rows], T[rows], good[rows], o.closed, steps[rows][0])
         followed += [(o, r) for r in runs]
         lost += [_old_part(o, a, b) for a, b in gaps]
-    followed = _spaced(surface, followed, step_len, h, tol, crease_angle)
-    return followed, [o for o in lost if len(o.points) >= 2]
+    followed, short = _spaced(surface, followed, step_len, h, tol, crease_angle)
+    return followed, [o for o in lost + short if len(o.points) >= 2]
 
 
 def _tangents(P, closed):
@@ -77,11 +79,8 @@ def _moved(surface, Q, T, reach, tol, back, n_back, crease_angle):
     if len(Q) == 0:
         return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, bool)
     X, F, G, _, ok, bend = run(surface.ev, surface.silhouette_newton_steps(Q, T, reach, tol, back=back))[0]
-    n = surface.normals(G)
-    ok &= on_surface(F, surface.iso)
-    ok &= np.abs(np.einsum("ij,ij->i", n, surface.view.towards_eye(X))) <= ON_SILHOUETTE
-    ok &= np.einsum("ij,ij->i", surface.normals(G - bend), n_back) > np.cos(SMOOTH * crease_angle)
-    return X, n, ok
+    ok &= on_surface(F, surface.iso) & silhouette_kept(surface, X, G, bend, n_back, crease_angle)
+    return X, surface.normals(G), ok
 
 
 def _links(X, T, step):
@@ -90,7 +89,7 @@ def _links(X, T, step):
     old one did not.)"""
     d = X[1:] - X[:-1]
     ahead = np.einsum("ij,ij->i", d, T[:-1]) > 0
-    near = np.linalg.norm(d, axis=1) <= 2.5 * step
+    near = np.linalg.norm(d, axis=1) <= FAR * step
     return ahead & near
 
 
@@ -146,7 +145,8 @@ def _old_part(o, a, b):
 def _spaced(surface, followed, step_len, h, tol, crease_angle):
     """Followed runs as Outlines with their neighbours SPACING apart: up to REFILL
     rounds of midpoints moved onto the silhouette where they are too far apart (the
-    run is cut where they still are), then points too near their predecessor dropped."""
+    run is cut where they still are), then points too near their predecessor dropped;
+    and the pieces left shorter than SHORTEST (as Outlines: seeds)."""
     runs = [[o, X, n, T, closed] for o, (X, n, T, closed) in followed]
     for round_ in range(REFILL + 1):
         far = [_far(X, closed, SPACING[1] * (o.step or step_len)) for o, X, _, _, closed in runs]
@@ -170,12 +170,11 @@ def _spaced(surface, followed, step_len, h, tol, crease_angle):
                 at = i[m] + 1
                 r[1], r[2], r[3] = (np.insert(r[1], at, Xq[m], axis=0), np.insert(r[2], at, nq[m], axis=0),
                                     np.insert(r[3], at, Tq[m], axis=0))
-    out = []
+    out, short = [], []
     for o, X, n, _, closed in runs:
-        keep = _thinned(X, SPACING[0] * (o.step or step_len))
-        if len(keep) >= SHORTEST:
-            out.append(Outline(o.kind, X[keep], n[keep], closed, o.step))
-    return out
+        keep = _thinned(X, SPACING[0] * (o.step or step_len), closed)
+        (out if len(keep) >= SHORTEST else short).append(Outline(o.kind, X[keep], n[keep], closed, o.step))
+    return out, short
 
 
 def _far(X, closed, longest):
@@ -184,15 +183,18 @@ def _far(X, closed, longest):
     return np.flatnonzero(d > longest)
 
 
-def _thinned(X, shortest):
-    """Rows kept where each is at least ``shortest`` from the last kept (and the last)."""
-    d = np.linalg.norm(np.diff(X, axis=0), axis=1)
+def _thinned(X, shortest, closed):
+    """Rows kept where each is at least ``shortest`` from the last kept (an open
+    outline's last point kept; a closed one's last kept only that far from its first)."""
+    d = np.linalg.norm((np.roll(X, -1, axis=0) - X) if closed else np.diff(X, axis=0), axis=1)
     if len(X) < 2 or (d >= shortest).all():
         return np.arange(len(X))
     keep = [0]
     for i in range(1, len(X)):
-        if np.linalg.norm(X[i] - X[keep[-1]]) >= shortest or i == len(X) - 1:
+        if np.linalg.norm(X[i] - X[keep[-1]]) >= shortest or (i == len(X) - 1 and not closed):
             keep.append(i)
+    while closed and len(keep) > 1 and np.linalg.norm(X[keep[-1]] - X[0]) < shortest:
+        keep.pop()
     return np.array(keep)
 
 

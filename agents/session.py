@@ -113,9 +113,10 @@ class Session:
         feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle, radial=kr)
         for kind in s.kinds:
             pts, a, b = feats[kind]
-            if kind not in VIEW_DEPENDENT and changed is not EVERYWHERE:
+            if kind not in VIEW_DEPENDENT and changed is not EVERYWHERE and self.carried.complete:
                 # creases and curvature-sign lines do not depend on the eye: where the field
-                # is the last frame's, so are they (kept), and its seeds would find them again
+                # is the last frame's, so are they (kept: all of them, its session having run
+                # to its end), and its seeds would find them again
                 here = np.zeros(len(pts), bool) if changed is None else changed.contains(pts, pad=self.h)
                 pts, a, b = pts[here], a[here], b[here]
             self.bb.add_features(pts, a, b, kind)
@@ -144,7 +145,8 @@ class Session:
         self.traces = Traces(self.surface, self.bb, self.pool, s, self.tol, self.step_len, sites)
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
                                    s.explore_steps)
-        self.traces.add_traced(self.carried.kept + followed)   # the last frame's outlines where nothing changed
+        # the last frame's outlines where nothing changed, and its silhouettes followed
+        self.traces.add_traced(self.carried.kept + followed)
         self.traces.extend(followed, len(self.carried.kept))   # ... traced on from the followed ones' ends
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
@@ -168,7 +170,7 @@ class Session:
     def continuation(self):
         """What this session leaves the next frame's (agents.continuation)."""
         return Continuation(self.ev.model, self.view.key(), self.settings, tuple(self.outlines()), self._init,
-                            self.carried.age)
+                            self.carried.age, self.done)
 
     def _curvature(self, P, g):
         return curvature(self.ev, P, g)

@@ -206,8 +206,9 @@ class Surface:
 
     def suggestive_valid(self, X, g):
         """Whether points X (gradients g) of a zero of the radial curvature are suggestive
-        contour points that show (FLAT, OBLIQUE, CROSSES): facing the eye, seen
-        obliquely, the radial curvature growing towards the eye across the line."""
+        contour points that show (FLAT, ZERO_MEAN, OBLIQUE, CROSSES): facing the eye, seen
+        obliquely, on a zero (not a jump) of the radial curvature, which grows towards the
+        eye across the line."""
         m = len(X)
         if m == 0:
             return np.zeros(0, bool)
@@ -215,7 +216,7 @@ class Surface:
         w = v - np.einsum("ij,ij->i", v, n)[:, None] * n
         c, here, P, _ = self._probed(X, g, unit(w))          # + side: towards the eye
         kr = radial(c, self.view.towards_eye(np.concatenate([X, P])))[0]
-        ok = _crossing(kr, here, m, self.scale, ordered=True)
+        ok = _crossing(kr, here, m, self.scale, ordered=True) & (np.abs(kr[:m]) <= ZERO_MEAN * here[:m])
         return ok & (np.einsum("ij,ij->i", n, v) > 0) & (np.linalg.norm(w, axis=1) >= OBLIQUE)
 
     def _probed(self, X, g, W):
@@ -244,8 +245,8 @@ def _crossing(q, size, m, scale, ordered=False):
     have opposite signs, each at least CROSSES (``ordered``: the + side's positive)."""
     rel = q / np.where(size > 0, size, 1.0)
     plus, minus = rel[m:2 * m], rel[2 * m:]
-    ok = plus > CROSSES if ordered else (plus * minus < 0)
-    ok &= (minus < -CROSSES) if ordered else (np.minimum(np.abs(plus), np.abs(minus)) >= CROSSES)
+    ok = plus >= CROSSES if ordered else (plus * minus < 0)
+    ok &= (minus <= -CROSSES) if ordered else (np.minimum(np.abs(plus), np.abs(minus)) >= CROSSES)
     return ok & (size[:m] * scale >= FLAT) & np.isfinite(size[:m])
 
 

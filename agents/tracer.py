@@ -24,6 +24,7 @@ SIDE = 0.05         # a crease team's agents keep this share of the step to eith
 ON_SILHOUETTE = 1e-7  # |n.v| of a silhouette point (a Newton-located one: about 1e-12)
 SMOOTH = 0.5        # a silhouette Newton step whose normal at P, predicted back from X through
                     # the Hessian, is off by this much of the crease angle crossed a crease
+FAR = 2.5           # a step longer than this many steps jumped off its outline
 
 
 class Step(NamedTuple):
@@ -42,6 +43,31 @@ class Step(NamedTuple):
     g: np.ndarray
     ok: np.ndarray
     pins: np.ndarray            # (m, 2, sites) the sides' branch records (creases; model.branches)
+
+
+def silhouette_kept(surface, X, G, bend, n_back, crease_angle):
+    """Whether Newton-located silhouette points X (gradients G, the Hessian times the way
+    back to points of known normals ``n_back``: Surface.silhouette_newton_steps) count:
+    the normal predicted back there through the Hessian must be the known one (a point
+    across a crease, a jump of the gradient, is refused), and the point must be on the
+    silhouette (Newton's last step can be below tol where the Hessian is huge, beside a
+    crease, while n.v is not yet zero)."""
+    ok = np.einsum("ij,ij->i", surface.normals(G - bend), n_back) > np.cos(SMOOTH * crease_angle)
+    return ok & (np.abs(np.einsum("ij,ij->i", surface.normals(G), surface.view.towards_eye(X))) <= ON_SILHOUETTE)
+
+
+def levels_hold(surface, kinds, ok, X, g, T):
+    """Whether points X (gradients g, line tangents T) of curvature-sign lines and
+    suggestive contours, among those ``ok``, are points of such lines
+    (Surface.curvature_crossings, Surface.suggestive_valid); the other kinds' pass."""
+    hold = np.ones(len(X), bool)
+    cv = np.flatnonzero(ok & (kinds == CURV))
+    if len(cv):
+        hold[cv] = surface.curvature_crossings(X[cv], g[cv], T[cv])
+    sg = np.flatnonzero(ok & (kinds == SUG))
+    if len(sg):
+        hold[sg] = surface.suggestive_valid(X[sg], g[sg])
+    return hold
 
 
 def level_tangent(surface, kinds, X, n, ref, eps):
@@ -187,12 +213,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     valid &= ~bad
     fX, _ = surface.field_grad(X)
     valid &= on_surface(fX, surface.iso)
-    cv = np.flatnonzero(valid & (kinds == CURV))
-    if len(cv):
-        valid[cv] = surface.curvature_crossings(X[cv], gX[cv], tangent[cv])
-    sg = np.flatnonzero(valid & (kinds == SUG))
-    if len(sg):
-        valid[sg] = surface.suggestive_valid(X[sg], gX[sg])
+    valid &= levels_hold(surface, kinds, valid, X, gX, tangent)
     return Seeds(X, n, tangent, nA - nB, A, B, valid & ~opened, pins, opened)
 
 
@@ -254,14 +275,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         creases() if len(cre) else None)
     if len(sil):
         Xs, Fs, Gs, Ts, conv, bend = by_sil
-        # the gradient at P predicted from X through the Hessian must match P's normal: a
-        # step across a crease (a jump of the gradient) is refused (retried shorter, and
-        # past the shortest step the silhouette ends at the crease)
-        back = surface.normals(Gs - bend)
-        conv &= np.einsum("ij,ij->i", back, nP[sil]) > np.cos(SMOOTH * crease_angle)
-        # and the point must be on the silhouette: Newton's last step can be below tol
-        # where the Hessian is huge (beside a crease) while n.v is not yet zero
-        conv &= np.abs(np.einsum("ij,ij->i", surface.normals(Gs), surface.view.towards_eye(Xs))) <= ON_SILHOUETTE
+        conv &= silhouette_kept(surface, Xs, Gs, bend, nP[sil], crease_angle)
         got = sil[conv]
         X[got] = A_out[got] = B_out[got] = Xs[conv]
         fX[got], gX[got] = Fs[conv], Gs[conv]
@@ -304,14 +318,11 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     step = X - P
     # a step that went backwards or jumped far is a lost trace, not progress
     adv = np.einsum("ij,ij->i", step, T)
-    ok &= (adv > 0.2 * h) & (np.linalg.norm(step, axis=1) < 2.5 * h)
+    ok &= (adv > 0.2 * h) & (np.linalg.norm(step, axis=1) < FAR * h)
     Tn = np.where(newton[:, None], tangent, unit(step))
-    cv = np.flatnonzero(ok & (kinds == CURV))
-    if len(cv):             # a curvature-sign line ends where the surface stops turning across it
-        ok[cv] = surface.curvature_crossings(X[cv], gX[cv], Tn[cv])
-    sg = np.flatnonzero(ok & (kinds == SUG))
-    if len(sg):             # a suggestive contour ends where it stops being one, or turns away
-        ok[sg] = surface.suggestive_valid(X[sg], gX[sg])
+    # a curvature-sign line ends where the surface stops turning across it, a suggestive
+    # contour where it stops being one or turns away
+    ok &= levels_hold(surface, kinds, ok, X, gX, Tn)
     cre = kinds == CREASE
     ref_new = np.where(cre[:, None], nA_out - nB_out, ref)
     return Step(X, surface.normals(gX), Tn, ref_new, A_out, B_out, nA_out, nB_out, fX, gX, ok, pins)

@@ -66,8 +66,8 @@ class Traces:
     def add_traced(self, outlines):
         """Outlines traced already (the last frame's, where nothing changed): they count
         as traced (no seed starts a trace on them, a trace stops where it meets them,
-        the blackboard's seeds of silhouettes and curvature-sign lines their points cross
-        are taken) and are among the results as they are."""
+        the blackboard's seeds of the other kinds than creases their points cross are
+        taken) and are among the results as they are."""
         crossing = []                  # (kinds, points, normals, across, steps) of the lines' points
         for k, o in enumerate(outlines):
             P, n = np.asarray(o.points, float), np.asarray(o.normals, float)
@@ -256,8 +256,9 @@ class Traces:
             elif steps[i] >= 4 and at_other_[i]:
                 end = "closed"
             elif (hit := loop.hit(q[i])) is not None:
-                # an outline is here: stop short; come round onto its own seed, it closed
-                end = "closed" if fwd[i] and hit[0] == ids[i] and hit[1] <= SELF_GAP else "joined"
+                # an outline is here: stop short; come round onto its own seed, it closed (a task
+                # going on from a kept outline's end, id below 0, joins: it bridges, the stitching closes)
+                end = "closed" if fwd[i] and ids[i] >= 0 and hit[0] == ids[i] and hit[1] <= SELF_GAP else "joined"
             elif steps[i] >= limit:
                 end = "limit"
             else:

@@ -140,9 +140,9 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
                     "turns from convex to concave (layer Curvature; none across flat parts)")
     line_suggestive: bpy.props.BoolProperty(
         name="Suggestive", default="suggestive" in _RunSettings.kinds,
-        description="Trace Feature Outlines and Find Features trace suggestive contours: where the surface, "
-                    "seen from a little nearer the viewer, would turn away from it (zeros of the radial "
-                    "curvature, DeCarlo et al. 2003; layer Suggestive)")
+        description="Trace Feature Outlines and Find Features trace suggestive contours: where the surface "
+                    "comes closest to turning away from the eye without doing so, a contour from a nearby "
+                    "viewpoint (zeros of the radial curvature, DeCarlo et al. 2003; layer Suggestive)")
     use_camera: bpy.props.BoolProperty(
         name="From Camera", default=True,
         description="Illustrate the model as the scene camera sees it (else as the 3D viewport does)")

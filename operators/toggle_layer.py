@@ -5,7 +5,7 @@ LAYER_TIPS = {
     "Silhouette": "The silhouettes: where the surface turns away from the eye",
     "Crease": "The creases: where unions, intersections and differences meet",
     "Curvature": "Curvature-sign lines: where the surface turns from convex to concave",
-    "Suggestive": "Suggestive contours: where the surface would turn away from an eye a little nearer",
+    "Suggestive": "Suggestive contours: where the surface comes closest to turning away from the eye",
     "Hatching": "Hatching and cross-hatching in the shade",
     "Chains": "Strokes started from the silhouette and crease chains",
     "Short Strokes": "Short strokes through points spread over the shaded surface",

@@ -202,10 +202,13 @@ def test_find_features_in_a_region_explores_only_there(load_example):
     assert s.bb.vox["path_steps"].sum() > 0
 
 
+KINDS_ARE = "must be one or more of silhouette, crease, curvature, suggestive, got "
+
+
 @pytest.mark.parametrize("kw, msg", [(dict(resolution=200), "resolution must be a whole number from 8 to 128"),
                                      (dict(agents=0), "agents must be"), (dict(lod=float("nan")), "lod must be"),
-                                     (dict(kinds=("edges",)), "must be one or more of silhouette, crease, curvature, suggestive, got edges"),
-                                     (dict(kinds=()), "must be one or more of silhouette, crease, curvature, suggestive, got none")])
+                                     (dict(kinds=("edges",)), KINDS_ARE + "edges"),
+                                     (dict(kinds=()), KINDS_ARE + "none")])
 def test_bad_settings_are_named(kw, msg):
     with pytest.raises(ValueError, match=msg):
         Session(model_of({"type": "point", "center": [0, 0, 0], "radius": 1}), View(direction=(0, 0, 1)),

@@ -9,6 +9,7 @@ from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents.continuation import carried
 from blobtree_ink.blackboard.view import View
+from blobtree_ink.model.curvature import curvature, radial
 from blobtree_ink.strokes import style as ST
 from blobtree_ink.strokes.visibility import visible
 from test_curvature_lines import torus
@@ -75,11 +76,16 @@ def test_a_torus_seen_obliquely_has_them_inside_where_the_radial_curvature_vanis
 
 
 def test_a_convex_surface_has_none():
-    """A sphere and an ellipsoid: the radial curvature is positive everywhere."""
-    assert len(traced({"type": "point", "center": [0, 0, 0], "radius": 1.0})[1]) == 0
+    """A sphere and an ellipsoid: the radial curvature is positive everywhere (at every
+    vertex of the rough mesh), so no line; the torus's changes sign, and it has some."""
     egg = {"type": "transform", "scale": [1.6, 1.0, 0.7], "child": {"type": "point", "center": [0, 0, 0],
                                                                      "radius": 1.0}}
-    assert len(traced(egg)[1]) == 0
+    for root, convex in (({"type": "point", "center": [0, 0, 0], "radius": 1.0}, True), (egg, True),
+                         (torus(R, r), False)):
+        s, X = traced(root)
+        V = s.mesh.vertices
+        kr = radial(curvature(s.ev, V), s.view.towards_eye(V))[0]
+        assert (kr > 0).all() == convex and (len(X) == 0) == convex
 
 
 def test_their_hidden_parts_are_removed():

@@ -147,8 +147,9 @@ def test_a_loop_of_questions_sees_the_points_kept_before_each_as_if_remembered_o
     the loop's start and the new points the loop kept before it (not those it passed
     over, nor later ones), the first hit in the order of the plain rule (cells in
     order; within a cell the earliest point, the table's before the loop's)."""
-    from blobtree_ink.agents.traced import NO_ARC, TracedPoints
+    from blobtree_ink.agents.traced import NO_ARC, NO_OWN, TracedPoints
     rng = np.random.default_rng(7)
+    ids = np.array([0, 1, 2, 3, 4, 5, -1000, -1001])      # traced outlines' and kept ones' (agents.traces.KEPT)
     step = 0.1
     tp = TracedPoints(step, np.radians(35.0))
     entries = []
@@ -156,7 +157,7 @@ def test_a_loop_of_questions_sees_the_points_kept_before_each_as_if_remembered_o
         k, q = int(rng.integers(0, 2)), rng.random(3) * 0.5
         nq = rng.normal(size=3)
         nq /= np.linalg.norm(nq)
-        tid, qa, qs = int(rng.integers(0, 6)), int(rng.integers(-20, 20)), float(rng.choice([step, 0.2 * step]))
+        tid, qa, qs = int(rng.choice(ids)), int(rng.integers(-20, 20)), float(rng.choice([step, 0.2 * step]))
         tp.remember(k, q, tid, qa, nq, qs)
         entries.append((k, q, tid, qa, nq, qs))
     m = 120
@@ -166,20 +167,21 @@ def test_a_loop_of_questions_sees_the_points_kept_before_each_as_if_remembered_o
     N /= np.linalg.norm(N, axis=1, keepdims=True)
     N[::7] = np.nan                                      # some without a normal
     radius = rng.choice([step, 0.3 * step], m)
-    own = np.where(rng.random(m) < 0.5, rng.integers(0, 6, m), -1)
+    own = np.where(rng.random(m) < 0.5, rng.choice(ids, m), NO_OWN)
+    tids = np.where(own == NO_OWN, 0, own)                # the loop's new points' outlines
     arc = np.where(rng.random(m) < 0.7, rng.integers(-20, 20, m), NO_ARC)
     steps = rng.choice([step, 0.2 * step], m)
-    loop = tp.loop(kinds, P, radius, own, arc, N, new=(kinds, P, N, own.clip(0), arc.clip(-20), steps),
+    loop = tp.loop(kinds, P, radius, own, arc, N, new=(kinds, P, N, tids, arc.clip(-20), steps),
                    upto=np.arange(m))
     hits = 0
     for i in range(m):
-        want = _first_near(step, tp.cos_sheet, entries, kinds[i], P[i], radius[i], None if own[i] < 0 else own[i],
+        want = _first_near(step, tp.cos_sheet, entries, kinds[i], P[i], radius[i], None if own[i] == NO_OWN else own[i],
                            None if arc[i] == NO_ARC else arc[i], None if np.isnan(N[i, 0]) else N[i])
         assert loop.hit(i) == want
         hits += want is not None
         if want is None and rng.random() < 0.8:                 # the loop keeps most of the rest
             loop.keep(i)
-            entries.append((kinds[i], P[i], max(own[i], 0), max(arc[i], -20), N[i], steps[i]))
+            entries.append((kinds[i], P[i], tids[i], max(arc[i], -20), N[i], steps[i]))
     assert 20 < hits < m - 20
     loop.commit()                                             # the kept points join the table
     for i in range(0, m, 3):

@@ -129,8 +129,8 @@ def run():
     yield from redrawn(view3d)
     yield {"action": "screenshot", "name": "lines_3_traced.png"}
     with open(os.path.join(OUT, "lines_points.json"), "w") as fh:
-        json.dump({k.lower(): in_viewport(win, vregion, rv3d, ink, drawing_of(ink, k)) for k in ("Curvature", "Suggestive")},
-                  fh)
+        json.dump({k.lower(): in_viewport(win, vregion, rv3d, ink, drawing_of(ink, k))
+                   for k in ("Curvature", "Suggestive")}, fh)
 
 
 Steps(run())
