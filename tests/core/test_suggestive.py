@@ -11,6 +11,7 @@ from blobtree_ink.agents.continuation import carried
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.curvature import curvature, radial
 from blobtree_ink.strokes import style as ST
+from blobtree_ink.strokes.style import SPECK
 from blobtree_ink.strokes.visibility import visible
 from test_curvature_lines import torus
 
@@ -90,7 +91,8 @@ def test_a_convex_surface_has_none():
 
 def test_their_hidden_parts_are_removed():
     """A ball between the eye and the torus hides some of its suggestive contours: the
-    layer keeps what shows, and every point of it is visible."""
+    layer keeps what shows, every point of it visible, and no speck (a visible piece
+    shorter than SPECK trace steps)."""
     root = {"type": "union", "children": [torus(R, r), {"type": "point", "center": [1.44, -1.957, 1.319],
                                                           "radius": 1.0}]}
     _, X = traced(root)
@@ -99,8 +101,11 @@ def test_their_hidden_parts_are_removed():
     assert shown.sum() > 5 and (~shown).sum() > 5
     job = PL.Job(ev, View(eye=EYE), None, ST.style("outlines"), (PL.Request("OUTLINES"),), 0,
                  Settings(resolution=20, kinds=KINDS))
-    strokes = PL.Illustration(job).run().strokes.layers["Suggestive"]
+    ill = PL.Illustration(job)
+    strokes = ill.run().strokes.layers["Suggestive"]
     P = np.concatenate([st.points for st in strokes])
+    lengths = [np.linalg.norm(np.diff(st.points, axis=0), axis=1).sum() for st in strokes]
+    assert min(lengths) >= SPECK * ill.session.step_len
     assert visible(ev, P, EYE).all()
     assert np.linalg.norm(X[~shown][:, None] - P[None], axis=2).min() > 1e-6      # the hidden points are gone
 
