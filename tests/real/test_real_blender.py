@@ -366,8 +366,9 @@ def test_a_background_animation_render_of_an_example_scene(user_dir, tmp_path):
 def test_real_ui_an_artist_turns_on_curvature_lines_and_suggestive_contours(user_dir, tmp_path):
     """Issue #30 in the real UI (tests/real/ui/lines.py): clicks on the sidebar's
     Curvature and Suggestive toggles (Silhouette and Crease are on by default), then
-    Trace Feature Outlines from menu search: the pear's curvature-sign lines and
-    suggestive contours are drawn on their layers, and show as ink on screen."""
+    Trace Feature Outlines from menu search: the heart's curvature-sign lines and
+    suggestive contours (its wrinkles, seen from the scene camera) are drawn on their
+    layers, and show as ink on screen."""
     out, facts = run_ui_script("lines.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
     assert facts["lines_before"] == ["silhouette", "crease"]
@@ -380,8 +381,8 @@ def test_real_ui_an_artist_turns_on_curvature_lines_and_suggestive_contours(user
     shot = read_png(artifact("lines_3_traced.png")).astype(float).mean(axis=2) / 255
     drawn = json.load(open(os.path.join(out, "lines_points.json")))
     pts = np.array(drawn["curvature"], float)
-    assert len(pts) >= 5                                  # the visible arc where the stem meets the body
-    assert np.median(_darkest(shot, pts)) < 0.3           # the curvature line is ink on screen
+    assert len(pts) >= 5
+    assert np.median(_darkest(shot, pts)) < 0.3           # the curvature lines are ink on screen
     pts = np.array(drawn["suggestive"], float)
     assert len(pts) >= 5
     assert np.median(_darkest(shot, pts)) < 0.3           # and so are the suggestive contours

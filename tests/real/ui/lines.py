@@ -2,9 +2,9 @@
 the sidebar and traces them, with the clicks and keys sent by xdotool. Python set-up (and why) is marked [Python].
 
 1. Past the splash (Escape); the extension enabled, the default cube deleted and the
-   pear imported with its preview [Python: the file browser is not what this test is
+   heart imported with its preview [Python: the file browser is not what this test is
    about]; nothing selected.
-   The view framed on the pear: the preview selected [Python], F3 "frame selected",
+   The view framed on the heart: the preview selected [Python], F3 "frame selected",
    Alt+A.
 2. The mouse over the 3D viewport, N shows the sidebar [Python: its BlobTree Ink tab].
    A screenshot; the Lines toggles are found on it: two a row, the first row of the
@@ -71,11 +71,11 @@ def run():
     vregion = region_of(view3d, "WINDOW")
     rv3d = view3d.spaces.active.region_3d
     with bpy.context.temp_override(window=win, area=view3d, region=vregion):
-        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "pear.json"), preview=True)
-    tree = bpy.data.node_groups["pear"]
+        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "heart.json"), preview=True)
+    tree = bpy.data.node_groups["heart"]
     yield from until(lambda: tree.preview_object is not None, 20, "the preview")
     bpy.ops.ed.undo_push(message="set up")
-    # the view framed on the pear, as an artist does before drawing: the preview selected
+    # the view framed on the heart, as an artist does before drawing: the preview selected
     # [Python: a click would have to find it], F3 "frame selected", Alt+A deselects
     for obj in bpy.context.selected_objects:
         obj.select_set(False)
