@@ -86,8 +86,15 @@ class Explorers:
         sil = np.einsum("ij,ij->i", n, surface.view.towards_eye(P))
         c = curvature(surface.ev, P, g)
         self.table.append(len(rows), agent=self.pool.take(len(rows)), voxel=rows, centre=centres, p=P, d=d, n=n,
-                          s_sil=sil, s_curv=c["mean"], s_sug=radial(c, surface.view.towards_eye(P))[0], steps=0)
+                          s_sil=sil, s_curv=c["mean"], s_sug=self._radial(c, P), steps=0)
         self.started += len(rows)
+
+    def _radial(self, c, P):
+        """The radial curvature at P (curvature ``c``), when suggestive contours are
+        looked for (else zeros)."""
+        if "suggestive" not in self.kinds:
+            return np.zeros(len(P))
+        return radial(c, self.surface.view.towards_eye(P))[0]
 
     def step(self):
         """One step of every explorer; feature points found go to the blackboard.
@@ -114,7 +121,7 @@ class Explorers:
             found["silhouette"] = (ex.s_sil > 0) != (sil > 0)
         if "curvature" in self.kinds:
             found["curvature"] = np.isfinite(curv) & ((ex.s_curv > 0) != (curv > 0))
-        sug = radial(cq, surface.view.towards_eye(Q))[0]
+        sug = self._radial(cq, Q)
         if "suggestive" in self.kinds:              # on the side facing the eye
             found["suggestive"] = np.isfinite(sug) & ((ex.s_sug > 0) != (sug > 0)) & (sil > 0) & (ex.s_sil > 0)
         if "crease" in self.kinds:

@@ -23,14 +23,13 @@ import json
 import os
 import sys
 
-import addon_utils
 import bpy
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from uikit import (drawing_of, in_viewport, menu_search, redrawn, region_of, screen_xy, until,  # noqa: E402
+from uikit import (drawing_of, in_viewport, menu_search, redrawn, screen_xy, until,  # noqa: E402
                    watch_redraws)
-from uistep import EXT, OUT, REPO, Steps, record  # noqa: E402
+from uistep import EXT, OUT, REPO, Steps, record, started  # noqa: E402
 
 ENDED = ("done", "stopped", "failed")
 
@@ -62,16 +61,8 @@ def setup(win, view3d, vregion):
 
 
 def run():
-    yield 1.0
-    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
-    addon_utils.enable(EXT, default_set=True)
+    win, view3d, vregion = yield from started()
     watch_redraws()
-    win = bpy.context.window_manager.windows[0]
-    for obj in list(bpy.data.objects):
-        if obj.type == "MESH":
-            bpy.data.objects.remove(obj)
-    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    vregion = region_of(view3d, "WINDOW")
     rv3d = view3d.spaces.active.region_3d
     tree = setup(win, view3d, vregion)
     bpy.ops.ed.undo_push(message="set up")

@@ -38,7 +38,6 @@ import os
 import sys
 import time
 
-import addon_utils
 import bpy
 import numpy as np
 from bpy_extras.object_utils import world_to_camera_view
@@ -48,7 +47,7 @@ from mathutils import Vector
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from uikit import (F12, drag, drawing_of, in_viewport, menu_search, read_screen, redrawn,  # noqa: E402
                    region_of, screen_xy, until, watch_redraws, world)
-from uistep import EXT, OUT, Steps, record  # noqa: E402
+from uistep import EXT, OUT, Steps, record, started  # noqa: E402
 
 TREE = "BlobTreeInkNodeTree"
 LAYERS = ("Silhouette", "Crease", "Curvature", "Stipples", "Hatching")
@@ -116,13 +115,8 @@ def run_look(ill, win, region, text, seconds):
 
 def run():
     # --- 1. past the splash, the extension, the default cube deleted ------------------------
-    yield 1.0
-    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
-    addon_utils.enable(EXT, default_set=True)
+    win, view3d, vregion = yield from started(keep_cube=True)       # an artist deletes it below
     watch_redraws()
-    win = bpy.context.window_manager.windows[0]
-    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    vregion = region_of(view3d, "WINDOW")
     record(extension_enabled=EXT in bpy.context.preferences.addons, version=bpy.app.version_string,
            background=bpy.app.background, selected_at_start=sorted(o.name for o in bpy.context.selected_objects))
     x, y = screen_xy(win, vregion, vregion.width / 2, vregion.height / 2)

@@ -19,14 +19,13 @@ import json
 import os
 import sys
 
-import addon_utils
 import bpy
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from uikit import (drawing_of, in_viewport, menu_search, read_screen, redrawn, region_of, screen_xy,  # noqa: E402
                    until, watch_redraws)
-from uistep import EXT, OUT, REPO, Steps, record  # noqa: E402
+from uistep import EXT, OUT, Steps, record, start_with_example  # noqa: E402
 
 ENDED = ("done", "stopped", "failed", "tree edited", "cancelled")
 TOGGLE_ON = np.array([71, 114, 179])        # the default theme's selected toggle (inner_sel), on screen
@@ -59,19 +58,9 @@ def lines(tree):
 
 
 def run():
-    yield 1.0
-    yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
-    addon_utils.enable(EXT, default_set=True)
+    win, view3d, vregion = yield from start_with_example("heart", preview=True)
     watch_redraws()
-    win = bpy.context.window_manager.windows[0]
-    for obj in list(bpy.data.objects):
-        if obj.type == "MESH":
-            bpy.data.objects.remove(obj)
-    view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    vregion = region_of(view3d, "WINDOW")
     rv3d = view3d.spaces.active.region_3d
-    with bpy.context.temp_override(window=win, area=view3d, region=vregion):
-        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "heart.json"), preview=True)
     tree = bpy.data.node_groups["heart"]
     yield from until(lambda: tree.preview_object is not None, 20, "the preview")
     bpy.ops.ed.undo_push(message="set up")

@@ -11,21 +11,28 @@ EXT = "bl_ext.user_default.blobtree_ink"
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
 
-def start_with_example(name):
-    """A generator step: past the splash, the extension enabled, the default cube gone,
-    and an example imported in the 3D viewport (no preview). Returns the window, the
-    largest 3D viewport and its main region (``yield from`` it)."""
+def started(keep_cube=False):
+    """A generator step: past the splash, the extension enabled (and, unless
+    ``keep_cube``, the default cube gone [Python]). Returns the window, the largest 3D
+    viewport and its main region (``yield from`` it)."""
     yield 1.0
     yield {"action": "key", "keys": ["Escape"]}          # the splash takes the first Escape
     addon_utils.enable(EXT, default_set=True)
     win = bpy.context.window_manager.windows[0]
-    for obj in list(bpy.data.objects):
+    for obj in [] if keep_cube else list(bpy.data.objects):
         if obj.type == "MESH":
             bpy.data.objects.remove(obj)
     view3d = max((a for a in win.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
     region = [r for r in view3d.regions if r.type == "WINDOW"][0]
+    return win, view3d, region
+
+
+def start_with_example(name, preview=False):
+    """:func:`started`, then an example imported in the 3D viewport (with its preview
+    mesh when ``preview``)."""
+    win, view3d, region = yield from started()
     with bpy.context.temp_override(window=win, area=view3d, region=region):
-        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", f"{name}.json"), preview=False)
+        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", f"{name}.json"), preview=preview)
     return win, view3d, region
 
 
