@@ -40,6 +40,7 @@ from .explore import Explorers
 from .follow import follow
 from .outline import stitch_scales, total_length
 from .pool import AgentPool
+from .ridges import RidgeTraces
 from .sampling import Sampling
 from .surface import Surface
 from .traces import Traces
@@ -57,7 +58,7 @@ class Settings:
     tolerance: float = OUTLINE         # outline location, as a fraction of the model's size
     crease_angle: float = float(np.radians(35.0))
     kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines, "suggestive" for
-                                                 # suggestive contours
+                                                 # suggestive contours, "ridges" for apparent ridges
     explore_steps: int = 16
     explore_detail: bool = True        # after the edge seeds, explore voxels flagged for detail
     subdivide: int = 6                 # fine cells per side of the subdivided voxels (0: none)
@@ -112,6 +113,8 @@ class Session:
         kr = radial(curv, view.towards_eye(self.mesh.vertices))[0] if "suggestive" in s.kinds else None
         feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle, radial=kr)
         for kind in s.kinds:
+            if kind == "ridges":                 # seeded from the vertices themselves (agents.ridges)
+                continue
             pts, a, b = feats[kind]
             if kind not in VIEW_DEPENDENT and changed is not EVERYWHERE and self.carried.complete:
                 # creases and curvature-sign lines do not depend on the eye: where the field
@@ -133,7 +136,7 @@ class Session:
         moved = self.carried.seeds
         followed, lost = follow(self.surface, [o for o in moved if o.kind == "silhouette"], self.h, self.step_len,
                                 self.tol, s.crease_angle)
-        a, b, kinds = seed_brackets(lost + [o for o in moved if o.kind != "silhouette"], self.h)
+        a, b, kinds = seed_brackets(lost + [o for o in moved if o.kind not in ("silhouette", "ridges")], self.h)
         for kind in sorted(set(kinds)):
             m = np.array(kinds) == kind
             self.bb.add_features(0.5 * (a[m] + b[m]), a[m], b[m], kind)
@@ -146,8 +149,15 @@ class Session:
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
                                    s.explore_steps)
         # the last frame's outlines where nothing changed, and its silhouettes followed
-        self.traces.add_traced(self.carried.kept + followed)
+        self.traces.add_traced([o for o in self.carried.kept if o.kind != "ridges"] + followed)
         self.traces.extend(followed, len(self.carried.kept))   # ... traced on from the followed ones' ends
+        # apparent ridges: their own agents, seeded from the vertices (and the last frame's)
+        ridges = "ridges" in s.kinds
+        V = self.mesh.vertices if ridges else np.zeros((0, 3))
+        gV = -curv["normal"] * curv["grad_norm"][:, None] if ridges else np.zeros((0, 3))
+        self.ridges = RidgeTraces(self.surface, self.pool, self.step_len, s.max_outline_steps, V, gV,
+                                  kept=[o for o in self.carried.kept if o.kind == "ridges"],
+                                  moved=[o for o in moved if o.kind == "ridges"])
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
         self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age else None
@@ -279,7 +289,8 @@ class Session:
     # --- the system iteration ---------------------------------------------------------
     @property
     def tasks_left(self):
-        return len(self._open_seeds()) + len(self.explorers.queue) + len(self.traces) + len(self.explorers)
+        return len(self._open_seeds()) + len(self.explorers.queue) + len(self.traces) + len(self.explorers) + \
+            self.ridges.waiting + len(self.ridges)
 
     @property
     def done(self):
@@ -302,6 +313,7 @@ class Session:
             return False
         self._assign()
         touched = self.traces.step() + self.explorers.step()
+        self.ridges.step()
         if touched:
             self._reprioritise(np.concatenate(touched))
         self.iteration += 1
@@ -339,18 +351,20 @@ class Session:
                 take.append(s)
             if take:
                 self.traces.start(np.array(take), self.iteration)
+        self.ridges.assign(self._in_regions)
         self.explorers.assign()
 
     # --- results ----------------------------------------------------------------------
     def outlines(self, include_active=True):
         """Feature outlines found so far, fragments stitched into whole polylines (once
         per state: a finished session's are stitched once)."""
-        state = (self.iteration, len(self.traces.done), len(self.traces), include_active)
+        state = (self.iteration, len(self.traces.done), len(self.traces), len(self.ridges.done), len(self.ridges),
+                 include_active)
         if self._stitched is not None and self._stitched[0] == state:
             return list(self._stitched[1])
-        out = list(self.traces.done)
+        out = self.traces.done + self.ridges.done
         if include_active:
-            out += self.traces.active_outlines()
+            out += self.traces.active_outlines() + self.ridges.active_outlines()
         out = stitch_scales(out)
         self._stitched = (state, tuple(out))
         return out
@@ -373,7 +387,8 @@ class Session:
         are the session's and are never changed in place once handed out). Without
         ``stitch`` the outlines are the traces' fragments as they are (a live view while
         tracing: stitching every iteration would cost more than the iteration)."""
-        outs = self.outlines() if stitch else self.traces.done + self.traces.active_outlines()
+        outs = self.outlines() if stitch else self.traces.done + self.traces.active_outlines() + \
+            self.ridges.done + self.ridges.active_outlines()
         for a in (self.mesh.vertices, self.mesh.quads, self.vertex_normals, *self.vertex_curvature.values()):
             a.setflags(write=False)            # handed out: a reader cannot change the session's arrays
         return Sampling(outlines=outs, vertices=self.mesh.vertices, quads=self.mesh.quads,

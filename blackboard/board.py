@@ -12,8 +12,8 @@ import numpy as np
 from .polygonise import Mesh
 
 SAMPLE_KINDS = {"corner": 0, "vertex": 1, "path": 2}
-FEATURE_KINDS = ("silhouette", "crease", "curvature", "suggestive")
-VIEW_DEPENDENT = ("silhouette", "suggestive")    # kinds that move with the eye (the others, with the field)
+FEATURE_KINDS = ("silhouette", "crease", "curvature", "suggestive", "ridges")
+VIEW_DEPENDENT = ("silhouette", "suggestive", "ridges")    # kinds that move with the eye (the others, with the field)
 KIND_ID = {k: i for i, k in enumerate(FEATURE_KINDS)}
 
 

@@ -110,3 +110,33 @@ def radial(c, towards_eye):
     with np.errstate(invalid="ignore", divide="ignore"):
         kr = np.where(ww > 0, (c["k1"] * a * a + c["k2"] * b * b) / ww, np.nan)
     return kr, np.sqrt(ww)
+
+
+def view_dependent(c, towards_eye):
+    """The principal view-dependent curvature (Judd et al. 2007, apparent ridges) of
+    points with curvature ``c`` (a :func:`curvature` dict) seen along ``towards_eye``
+    (unit, per point): how fast the normal turns per unit of distance on the image
+    plane, at most (the largest singular value of Q = S J^-1, J the projection of the
+    tangent plane onto the plane across the view), signed as the surface's normal
+    curvature along the direction it is taken in; and that direction on the surface,
+    J^-1 t1 for the unit image direction t1 (unnormalised: its length is the surface
+    distance per unit of image distance)."""
+    n, d1, d2 = c["normal"], c["dir1"], c["dir2"]
+    s1 = np.cross(towards_eye, n)
+    head_on = np.linalg.norm(s1, axis=1) < 1e-9            # any image direction will do
+    s1[head_on] = np.cross(towards_eye[head_on], np.where(np.abs(towards_eye[head_on, :1]) < 0.9,
+                                                          [[1.0, 0, 0]], [[0, 1.0, 0]]))
+    s1 /= np.linalg.norm(s1, axis=1, keepdims=True)
+    s2 = np.cross(towards_eye, s1)
+    J = np.stack([np.stack([np.einsum("ij,ij->i", d, s) for d in (d1, d2)], 1) for s in (s1, s2)], 1)
+    S = np.zeros((len(n), 2, 2))
+    S[:, 0, 0], S[:, 1, 1] = c["k1"], c["k2"]
+    det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+    ok = np.isfinite(det) & (np.abs(det) > 1e-12) & np.isfinite(c["k1"])
+    Ji = np.zeros_like(J)
+    Ji[ok] = np.linalg.inv(J[ok])
+    _, sig, Vt = np.linalg.svd(S @ Ji)
+    ab = np.einsum("nij,nj->ni", Ji, Vt[:, 0, :])           # tangent coordinates along d1, d2
+    sign = np.where(c["k1"] * ab[:, 0] ** 2 + c["k2"] * ab[:, 1] ** 2 < 0, -1.0, 1.0)
+    q = np.where(ok, sign * sig[:, 0], np.nan)
+    return q, ab[:, :1] * d1 + ab[:, 1:] * d2

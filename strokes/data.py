@@ -3,9 +3,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-LAYERS = ("Silhouette", "Crease", "Curvature", "Suggestive", "Hatching", "Chains", "Short Strokes", "Stipples",
-          "Single Strokes")
-LAYER_OF_KIND = {"silhouette": "Silhouette", "crease": "Crease", "curvature": "Curvature", "suggestive": "Suggestive"}
+LAYERS = ("Silhouette", "Crease", "Curvature", "Suggestive", "Ridges", "Hatching", "Chains", "Short Strokes",
+          "Stipples", "Single Strokes")
+LAYER_OF_KIND = {"silhouette": "Silhouette", "crease": "Crease", "curvature": "Curvature", "suggestive": "Suggestive",
+                 "ridges": "Ridges"}
 STROKE_LAYERS = ("Hatching", "Chains", "Short Strokes", "Stipples")      # the style's stroke layers
 
 

@@ -249,11 +249,11 @@ def test_curvature_lines_through_the_command_line_and_the_panel_toggles(ext, exa
     assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
     # with every kind off there is nothing to trace: a named error, the drawing kept
     tree.ink.line_silhouette = tree.ink.line_curvature = tree.ink.line_suggestive = False
-    with pytest.raises(RuntimeError, match="must be one or more of silhouette, crease, curvature, suggestive, got none"):
+    with pytest.raises(RuntimeError, match="must be one or more of silhouette, crease, curvature, suggestive, ridges, got none"):
         bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES")
     assert SM.differences(SM.from_grease_pencil(bpy.data.objects["pear Ink"]), op, dist=0, count=0, rel=0, q=1.0) == []
 
 
 def test_bad_lines_are_named(ext, example, tmp_path, capsys):
     assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--lines", "edges"]) == 1
-    assert "--lines must be one or more of silhouette, crease, curvature, suggestive, got edges" in capsys.readouterr().err
+    assert "--lines must be one or more of silhouette, crease, curvature, suggestive, ridges, got edges" in capsys.readouterr().err

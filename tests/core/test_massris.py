@@ -202,7 +202,7 @@ def test_find_features_in_a_region_explores_only_there(load_example):
     assert s.bb.vox["path_steps"].sum() > 0
 
 
-KINDS_ARE = "must be one or more of silhouette, crease, curvature, suggestive, got "
+KINDS_ARE = "must be one or more of silhouette, crease, curvature, suggestive, ridges, got "
 
 
 @pytest.mark.parametrize("kw, msg", [(dict(resolution=200), "resolution must be a whole number from 8 to 128"),

@@ -1,0 +1,148 @@
+"""Apparent ridges (Judd et al. 2007): where the view-dependent curvature q1 (how fast
+the normal turns per unit of image length) peaks along its own direction. Checked
+against a view-dependent curvature computed here from the field alone (finite
+differences of the gradient, not the session's curvature): on the crest of an
+elliptic capsule, where symmetry puts them exactly; on the heart's blends; absent on
+a sphere; along a rounded box's rounded edges; kept, or looked for again, in the next
+frame."""
+import numpy as np
+import pytest
+
+from blobtree_ink import model as M
+from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents.continuation import carried
+from blobtree_ink.agents.ridges import FACING, PROBE as RIDGE_PROBE, RIDGE_MIN, q1
+from blobtree_ink.blackboard.view import View
+
+KINDS = ("silhouette", "ridges")
+EYE = np.array([3.0, -4.0, 2.5])
+BOX = {"type": "box", "center": [0, 0, 0], "half_size": [1.0, 0.7, 0.5], "radius": 0.3}
+# a capsule squashed across x: an elliptic cylinder with half-ellipsoid caps, sharpest
+# along its crests x = 0, y = +-b; seen from an eye in the plane x = 0, the mirror
+# symmetry x -> -x puts the crest's apparent ridge exactly on x = 0
+CAPSULE = {"type": "transform", "scale": [0.35, 1, 1],
+           "child": {"type": "segment", "a": [0, 0, -1], "b": [0, 0, 1], "radius": 1.0}}
+
+
+def traced(root, eye=EYE, previous=None, resolution=20):
+    s = Session(M.from_dict({"format": "blobtree-1", "root": root}) if isinstance(root, dict) else root,
+                View(eye=eye), Settings(resolution=resolution, kinds=KINDS), previous=previous)
+    s.request("OUTLINES")
+    s.run()
+    assert s.done
+    out = [o for o in s.outlines() if o.kind == "ridges"]
+    return s, (np.concatenate([o.points for o in out]) if out else np.zeros((0, 3)))
+
+
+def q1_truth(ev, X, eye, h=1e-4):
+    """q1 and its surface direction at X from the field alone: the Hessian by central
+    differences of the gradient, the shape operator on the tangent plane, and the
+    largest singular value of S J^-1 (J: the tangent plane onto the image plane)."""
+    X = np.asarray(X, float)
+    h = h * ev.scale
+    _, g = ev.field_grad(X)
+    H = np.stack([(ev.field_grad(X + h * e)[1] - ev.field_grad(X - h * e)[1]) / (2 * h) for e in np.eye(3)], axis=2)
+    n = -g / np.linalg.norm(g, axis=1, keepdims=True)
+    v = (eye - X) / np.linalg.norm(eye - X, axis=1, keepdims=True)
+    e1 = np.cross(n, v)
+    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e2 = np.cross(n, e1)                                 # a tangent basis
+    s1, s2 = e1, np.cross(v, e1)                         # an image basis (e1 is across the view too)
+    T = np.stack([e1, e2], axis=2)                       # (m, 3, 2)
+    S = -np.einsum("mki,mkl,mlj->mij", T, H, T) / np.linalg.norm(g, axis=1)[:, None, None]
+    J = np.stack([np.einsum("mk,mkj->mj", s, T) for s in (s1, s2)], axis=1)
+    Q = S @ np.linalg.inv(J)
+    _, sig, Vt = np.linalg.svd(Q)
+    ab = np.einsum("mij,mj->mi", np.linalg.inv(J), Vt[:, 0])
+    u = np.einsum("mkj,mj->mk", T, ab)
+    sign = np.sign(np.einsum("mi,mij,mj->m", ab, S, ab))
+    return sign * sig[:, 0], u / np.linalg.norm(u, axis=1, keepdims=True), n, v
+
+
+def onto(ev, P, steps=30):
+    P = np.array(P, float)
+    for _ in range(steps):
+        f, g = ev.field_grad(P)
+        P -= ((f - ev.iso) / np.einsum("ij,ij->i", g, g))[:, None] * g
+    return P
+
+
+def assert_peaks(ev, X, eye):
+    """Every point is a ridge point by the independent q1: positive and at least
+    RIDGE_MIN, facing the eye, and within an eighth of a PROBE of a peak of its size
+    along q1's direction (the corrector locates a peak that closely): of five samples
+    an eighth of a PROBE apart around the point, the largest is not an end one."""
+    q, u, n, v = q1_truth(ev, X, eye)
+    assert (q * ev.scale >= 0.99 * RIDGE_MIN).all()
+    assert (np.einsum("ij,ij->i", n, v) >= 0.99 * FACING).all()
+    d = RIDGE_PROBE * ev.scale / 8 * u
+    size = np.stack([np.abs(q1_truth(ev, onto(ev, X + k * d), eye)[0]) for k in range(-2, 3)], axis=1)
+    assert (np.abs(np.argmax(size, axis=1) - 2) <= 1).all()
+
+
+def test_the_session_q1_is_the_fields():
+    s, X = traced(CAPSULE, np.array([0.0, 6.0, 1.0]))
+    P = s.mesh.vertices[::7]
+    _, g = s.ev.field_grad(P)
+    q, u = q1(s.surface, P, g)
+    qt, ut, _, _ = q1_truth(s.ev, P, np.array([0.0, 6.0, 1.0]))
+    ok = np.isfinite(qt) & (np.abs(qt) * s.ev.scale > 0.5)
+    assert ok.sum() > 50
+    assert np.allclose(q[ok], qt[ok], rtol=1e-3, atol=1e-3 / s.ev.scale)
+    assert (np.abs(np.einsum("ij,ij->i", u[ok], ut[ok])) > 0.999).all()       # the same direction, up to sign
+
+
+@pytest.mark.parametrize("eye", [(0.0, 6.0, 0.0), (0.0, 4.0, 3.0), (0.0, 5.0, -2.0)])
+def test_an_elliptic_capsule_has_one_along_its_crest(eye):
+    eye = np.array(eye)
+    s, X = traced(CAPSULE, eye)
+    outs = [o for o in s.outlines() if o.kind == "ridges"]
+    assert len(outs) == 1 and len(X) > 100                    # one whole line
+    assert np.abs(X[:, 0]).max() < 1e-6 * s.ev.scale           # on the plane of symmetry
+    assert X[:, 2].max() - X[:, 2].min() > 2.0                 # along the cylinder, onto its caps
+    assert_peaks(s.ev, X, eye)
+
+
+def test_the_heart_blends_ridges_are_peaks():
+    from conftest import example_path
+    heart = M.load(example_path("heart"))
+    s, X = traced(heart, eye=np.array([0.0, -6.0, 1.0]))
+    assert len(X) > 100
+    assert_peaks(s.ev, X, np.array([0.0, -6.0, 1.0]))
+
+
+def test_a_sphere_has_none():
+    """On a sphere q1 only grows towards the silhouette: no peak inside."""
+    assert len(traced({"type": "point", "center": [0, 0, 0], "radius": 1.0})[1]) == 0
+
+
+def test_a_rounded_box_has_them_along_its_rounded_edges():
+    """The box's rounds are where q1 is large; they end in flat faces (q1 = 0), so the
+    ridges sit at the rounds' shoulders or crests: never on a flat face."""
+    s, X = traced(BOX)
+    assert len(X) > 50
+    half = np.array(BOX["half_size"])
+    in_rounding = np.abs(X) > half[None] - 1e-3
+    assert (in_rounding.sum(axis=1) >= 2).all()                 # off every face's flat part
+    edges = {tuple(np.sign(x) * m) for x, m in zip(X, in_rounding.astype(int)) if m.sum() == 2}
+    assert len(edges) >= 3                                      # several of its visible edges
+
+
+def test_the_next_frame_keeps_them_or_looks_again():
+    s, X = traced(CAPSULE, np.array([0.0, 6.0, 0.0]))
+    prev = s.continuation()
+    settings = Settings(resolution=20, kinds=KINDS)
+    same = carried(prev, s.ev.model, View(eye=np.array([0.0, 6.0, 0.0])).key(), settings)
+    assert [len(o.points) for o in same.kept if o.kind == "ridges"] == [len(X)]
+    # the same eye: kept as they are, none traced again
+    s2, X2 = traced(s.ev.model, np.array([0.0, 6.0, 0.0]), previous=prev)
+    assert len(X2) == len(X) and np.array_equal(np.sort(X2, axis=0), np.sort(X, axis=0))
+    assert s2.ridges.serial == 0
+    # a moved eye: looked for again, from the last frame's points among the seeds
+    eye = np.array([0.0, 4.0, 3.0])
+    moved = carried(prev, s.ev.model, View(eye=eye).key(), settings)
+    assert not any(o.kind == "ridges" for o in moved.kept) and any(o.kind == "ridges" for o in moved.seeds)
+    s3, X3 = traced(s.ev.model, eye, previous=prev)
+    _, fresh = traced(CAPSULE, eye)
+    assert np.abs(X3[:, 0]).max() < 1e-6 * s3.ev.scale
+    assert abs(len(X3) - len(fresh)) <= 0.05 * len(fresh)
