@@ -151,7 +151,9 @@ class RidgeTraces:
     @property
     def waiting(self):
         """Seeds not started yet (before the first assignment: the candidates, as one)."""
-        return int(len(self._candidates[0]) + len(self._candidates[2]) > 0) if self.seeds is None else len(self.seeds[0])
+        if self.seeds is None:
+            return int(len(self._candidates[0]) + len(self._candidates[2]) > 0)
+        return len(self.seeds[0])
 
     def _refine_seeds(self):
         """The candidates onto q1's peaks, one batch: the mesh's vertices facing the eye

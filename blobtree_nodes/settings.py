@@ -143,6 +143,11 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         description="Trace Feature Outlines and Find Features trace suggestive contours: where the surface "
                     "comes closest to turning away from the eye without doing so, a contour from a nearby "
                     "viewpoint (zeros of the radial curvature, DeCarlo et al. 2003; layer Suggestive)")
+    line_ridges: bpy.props.BoolProperty(
+        name="Ridges", default="ridges" in _RunSettings.kinds,
+        description="Trace Feature Outlines and Find Features trace apparent ridges: the crests where the "
+                    "surface, as seen, bends most sharply (peaks of the view-dependent curvature, Judd et al. "
+                    "2007; layer Ridges)")
     use_camera: bpy.props.BoolProperty(
         name="From Camera", default=True,
         description="Illustrate the model as the scene camera sees it (else as the 3D viewport does)")

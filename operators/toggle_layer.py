@@ -6,6 +6,7 @@ LAYER_TIPS = {
     "Crease": "The creases: where unions, intersections and differences meet",
     "Curvature": "Curvature-sign lines: where the surface turns from convex to concave",
     "Suggestive": "Suggestive contours: where the surface comes closest to turning away from the eye",
+    "Ridges": "Apparent ridges: the crests where the surface, as seen, bends most sharply",
     "Hatching": "Hatching and cross-hatching in the shade",
     "Chains": "Strokes started from the silhouette and crease chains",
     "Short Strokes": "Short strokes through points spread over the shaded surface",

@@ -20,7 +20,8 @@ LAYER_SWITCHES = ("outlines", "hatching", "stipples", "chains", "short")
 STROKE_SWITCHES = ("hatching", "chains", "short", "stipples")        # the stroke layers, in drawing order
 SURFACES = ("all", "convex", "concave")
 WEIGHT_NAMES = ("flow", "wander", "separation", "alignment", "cohesion", "containment")
-SPECK = 4.0           # trace steps: a visible piece of a suggestive contour shorter than this is not drawn
+SPECK = 4.0           # trace steps: a visible piece of a suggestive contour or apparent ridge shorter than this
+SPECKLED = ("suggestive", "ridges")   # is not drawn (the kinds, found where a curvature peaks or vanishes)
 
 
 @dataclass
@@ -148,8 +149,9 @@ def canonical(points, closed, eye):
 def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
     """Visible parts of outlines as plain strokes, each in its :func:`canonical` order;
     with a light, the side turned from it is drawn heavier (by ``contrast``). A visible
-    piece of a suggestive contour shorter than SPECK of its trace steps is not drawn: a
-    speck on the paper, not a line (a silhouette's is: the end of a real contour)."""
+    piece of a suggestive contour or an apparent ridge shorter than SPECK of its trace
+    steps is not drawn: a speck on the paper, not a line (a silhouette's is: the end of
+    a real contour)."""
     out = StrokeSet()
     polys, norms = [], []
     for o in outlines:
@@ -164,7 +166,7 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
         for a, b in runs:
             end = b - 1 if whole else b
             seg = pts[a:end]
-            if o.kind == "suggestive" and np.linalg.norm(np.diff(seg, axis=0), axis=1).sum() < SPECK * o.step:
+            if o.kind in SPECKLED and np.linalg.norm(np.diff(seg, axis=0), axis=1).sum() < SPECK * o.step:
                 continue
             if light is None:
                 r = np.full(len(seg), float(radius))

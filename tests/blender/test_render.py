@@ -254,6 +254,29 @@ def test_curvature_lines_through_the_command_line_and_the_panel_toggles(ext, exa
     assert SM.differences(SM.from_grease_pencil(bpy.data.objects["pear Ink"]), op, dist=0, count=0, rel=0, q=1.0) == []
 
 
+def test_apparent_ridges_through_the_command_line_and_the_panel_toggle(ext, example, tmp_path):
+    """--lines ridges and the sidebar's Ridges toggle draw the heart's apparent ridges
+    (its veins' crests) on their own layer, the same strokes."""
+    code = ext.cli.main(["render", example("heart"), "--out", str(tmp_path), "--size", "128", "--grid", "16",
+                         "--lines", "ridges,silhouette"], out=io.StringIO())
+    assert code == 0
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "heart.blend"))
+    gp = bpy.data.objects["heart Ink"].data
+    count = {layer.name: len(layer.frames[0].drawing.strokes) if len(layer.frames) else 0 for layer in gp.layers}
+    assert count["Ridges"] > 0 and count["Silhouette"] > 0, count
+    assert count.get("Crease", 0) == 0 and count.get("Suggestive", 0) == 0
+    cli = SM.from_grease_pencil(bpy.data.objects["heart Ink"])
+    bpy.data.objects.remove(bpy.data.objects["heart Ink"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
+    tree = bpy.data.node_groups["heart"]
+    tree.ink.grid_resolution = 16
+    tree.ink.line_crease, tree.ink.line_ridges = False, True
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="heart", request="OUTLINES") == {"FINISHED"}
+    op = SM.from_grease_pencil(bpy.data.objects["heart Ink"])
+    _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example("heart"))))
+    assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
+
+
 def test_bad_lines_are_named(ext, example, tmp_path, capsys):
     assert ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--lines", "edges"]) == 1
     assert "--lines must be one or more of silhouette, crease, curvature, suggestive, ridges, got edges" in capsys.readouterr().err

@@ -14,6 +14,8 @@ from hypothesis import strategies as st
 from blobtree_ink import model as M
 from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents import ridges
+from blobtree_ink.blackboard.board import FEATURE_KINDS
 from blobtree_ink.blackboard.view import View
 
 import truth
@@ -62,16 +64,16 @@ def node(children):
 models = st.recursive(leaf(), node, max_leaves=5).map(lambda root: {"format": "blobtree-1", "root": root})
 
 
-def session_of(doc):
-    """The model's session run to the end from a three-quarter view, or None where the
-    model has no surface (a named error: NothingToDraw)."""
+def session_of(doc, kinds=Settings.kinds, resolution=12):
+    """The model's session (tracing ``kinds``) run to the end from a three-quarter view,
+    or None where the model has no surface (a named error: NothingToDraw)."""
     ev = M.Evaluator(M.from_dict(doc))
     try:
         centre, r = PL.bounds(ev)
     except PL.NothingToDraw:
         return None, None
     eye = PL.three_quarter_eye(centre, r)
-    s = Session(ev, View(eye=eye), Settings(resolution=12, agents=2000))
+    s = Session(ev, View(eye=eye), Settings(resolution=resolution, agents=2000, kinds=kinds))
     s.request("OUTLINES")
     s.run(iterations=400)
     return s, eye
@@ -102,6 +104,27 @@ def test_generated_models_trace_right(doc):
         X = np.concatenate(cre)
         X = X[np.linspace(0, len(X) - 1, min(len(X), CHECKED)).astype(int)]
         assert truth.on_a_crease(s.ev, X).all()
+
+
+@settings(max_examples=EXAMPLES // 2, derandomize=True, database=None, deadline=None,
+          suppress_health_check=list(HealthCheck))
+@given(models)
+def test_generated_models_trace_every_kind_right(doc):
+    """Every kind of line at once (curvature-sign lines, suggestive contours and
+    apparent ridges too): the session ends, every point lies on the surface, and every
+    apparent ridge point is one by the field alone."""
+    s, eye = session_of(doc, FEATURE_KINDS, resolution=10)
+    if s is None:
+        return
+    outs = s.outlines()
+    for o in outs:
+        assert np.isfinite(o.points).all()
+        assert truth.on_the_surface(s.ev, o.points).all(), o.kind
+    rid = [o.points for o in outs if o.kind == "ridges"]
+    if rid:
+        X = np.concatenate(rid)
+        X = X[np.linspace(0, len(X) - 1, min(len(X), CHECKED)).astype(int)]
+        assert truth.ridge_points(s.ev, X, eye, ridges.RIDGE_MIN, ridges.FACING, ridges.PROBE).all()
 
 
 @settings(max_examples=EXAMPLES, derandomize=True, database=None, deadline=None,

@@ -12,7 +12,13 @@ from blobtree_ink import model as M
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents.continuation import carried
 from blobtree_ink.agents.ridges import FACING, PROBE as RIDGE_PROBE, RIDGE_MIN, q1
+from blobtree_ink import pipeline as PL
 from blobtree_ink.blackboard.view import View
+from blobtree_ink.strokes import style as ST
+from blobtree_ink.strokes.style import SPECK
+from blobtree_ink.strokes.visibility import visible
+
+import truth
 
 KINDS = ("silhouette", "ridges")
 EYE = np.array([3.0, -4.0, 2.5])
@@ -34,50 +40,8 @@ def traced(root, eye=EYE, previous=None, resolution=20):
     return s, (np.concatenate([o.points for o in out]) if out else np.zeros((0, 3)))
 
 
-def q1_truth(ev, X, eye, h=1e-4):
-    """q1 and its surface direction at X from the field alone: the Hessian by central
-    differences of the gradient, the shape operator on the tangent plane, and the
-    largest singular value of S J^-1 (J: the tangent plane onto the image plane)."""
-    X = np.asarray(X, float)
-    h = h * ev.scale
-    _, g = ev.field_grad(X)
-    H = np.stack([(ev.field_grad(X + h * e)[1] - ev.field_grad(X - h * e)[1]) / (2 * h) for e in np.eye(3)], axis=2)
-    n = -g / np.linalg.norm(g, axis=1, keepdims=True)
-    v = (eye - X) / np.linalg.norm(eye - X, axis=1, keepdims=True)
-    e1 = np.cross(n, v)
-    e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
-    e2 = np.cross(n, e1)                                 # a tangent basis
-    s1, s2 = e1, np.cross(v, e1)                         # an image basis (e1 is across the view too)
-    T = np.stack([e1, e2], axis=2)                       # (m, 3, 2)
-    S = -np.einsum("mki,mkl,mlj->mij", T, H, T) / np.linalg.norm(g, axis=1)[:, None, None]
-    J = np.stack([np.einsum("mk,mkj->mj", s, T) for s in (s1, s2)], axis=1)
-    Q = S @ np.linalg.inv(J)
-    _, sig, Vt = np.linalg.svd(Q)
-    ab = np.einsum("mij,mj->mi", np.linalg.inv(J), Vt[:, 0])
-    u = np.einsum("mkj,mj->mk", T, ab)
-    sign = np.sign(np.einsum("mi,mij,mj->m", ab, S, ab))
-    return sign * sig[:, 0], u / np.linalg.norm(u, axis=1, keepdims=True), n, v
-
-
-def onto(ev, P, steps=30):
-    P = np.array(P, float)
-    for _ in range(steps):
-        f, g = ev.field_grad(P)
-        P -= ((f - ev.iso) / np.einsum("ij,ij->i", g, g))[:, None] * g
-    return P
-
-
 def assert_peaks(ev, X, eye):
-    """Every point is a ridge point by the independent q1: positive and at least
-    RIDGE_MIN, facing the eye, and within an eighth of a PROBE of a peak of its size
-    along q1's direction (the corrector locates a peak that closely): of five samples
-    an eighth of a PROBE apart around the point, the largest is not an end one."""
-    q, u, n, v = q1_truth(ev, X, eye)
-    assert (q * ev.scale >= 0.99 * RIDGE_MIN).all()
-    assert (np.einsum("ij,ij->i", n, v) >= 0.99 * FACING).all()
-    d = RIDGE_PROBE * ev.scale / 8 * u
-    size = np.stack([np.abs(q1_truth(ev, onto(ev, X + k * d), eye)[0]) for k in range(-2, 3)], axis=1)
-    assert (np.abs(np.argmax(size, axis=1) - 2) <= 1).all()
+    assert truth.ridge_points(ev, X, eye, RIDGE_MIN, FACING, RIDGE_PROBE).all()
 
 
 def test_the_session_q1_is_the_fields():
@@ -85,7 +49,7 @@ def test_the_session_q1_is_the_fields():
     P = s.mesh.vertices[::7]
     _, g = s.ev.field_grad(P)
     q, u = q1(s.surface, P, g)
-    qt, ut, _, _ = q1_truth(s.ev, P, np.array([0.0, 6.0, 1.0]))
+    qt, ut, _, _ = truth.view_dependent(s.ev, P, np.array([0.0, 6.0, 1.0]))
     ok = np.isfinite(qt) & (np.abs(qt) * s.ev.scale > 0.5)
     assert ok.sum() > 50
     assert np.allclose(q[ok], qt[ok], rtol=1e-3, atol=1e-3 / s.ev.scale)
@@ -109,6 +73,27 @@ def test_the_heart_blends_ridges_are_peaks():
     s, X = traced(heart, eye=np.array([0.0, -6.0, 1.0]))
     assert len(X) > 100
     assert_peaks(s.ev, X, np.array([0.0, -6.0, 1.0]))
+
+
+def test_their_hidden_parts_are_removed():
+    """A ball between the eye and the capsule hides the middle of its crest: the Ridges
+    layer keeps what shows, every point of it visible, and no speck."""
+    eye = np.array([0.0, 6.0, 0.0])
+    root = {"type": "union", "children": [CAPSULE, {"type": "point", "center": [0.0, 2.5, 0.0], "radius": 0.8}]}
+    _, X = traced(root, eye)
+    ev = M.Evaluator(M.from_dict({"format": "blobtree-1", "root": root}))
+    shown = visible(ev, X, eye)
+    assert shown.sum() > 20 and (~shown).sum() > 5
+    job = PL.Job(ev, View(eye=eye), None, ST.style("outlines"), (PL.Request("OUTLINES"),), 0,
+                 Settings(resolution=20, kinds=KINDS))
+    ill = PL.Illustration(job)
+    strokes = ill.run().strokes.layers["Ridges"]
+    assert len(strokes) >= 2                                    # the crest above and below the ball
+    P = np.concatenate([st.points for st in strokes])
+    lengths = [np.linalg.norm(np.diff(st.points, axis=0), axis=1).sum() for st in strokes]
+    assert min(lengths) >= SPECK * ill.session.step_len
+    assert visible(ev, P, eye).all()
+    assert np.linalg.norm(X[~shown][:, None] - P[None], axis=2).min() > 1e-6      # the hidden points are gone
 
 
 def test_a_sphere_has_none():

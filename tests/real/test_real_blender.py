@@ -363,19 +363,20 @@ def test_a_background_animation_render_of_an_example_scene(user_dir, tmp_path):
     assert "Traceback" not in p.stdout + p.stderr
 
 
-def test_real_ui_an_artist_turns_on_curvature_lines_and_suggestive_contours(user_dir, tmp_path):
+def test_real_ui_an_artist_turns_on_curvature_lines_suggestive_contours_and_ridges(user_dir, tmp_path):
     """Issue #30 in the real UI (tests/real/ui/lines.py): clicks on the sidebar's
-    Curvature and Suggestive toggles (Silhouette and Crease are on by default), then
-    Trace Feature Outlines from menu search: the heart's curvature-sign lines and
-    suggestive contours (its wrinkles, seen from the scene camera) are drawn on their
-    layers, and show as ink on screen."""
+    Curvature, Suggestive and Ridges toggles (Silhouette and Crease are on by default),
+    then Trace Feature Outlines from menu search: the heart's curvature-sign lines,
+    suggestive contours and apparent ridges (its wrinkles and veins, seen from the scene
+    camera) are drawn on their layers, and show as ink on screen."""
     out, facts = run_ui_script("lines.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
     assert facts["lines_before"] == ["silhouette", "crease"]
     assert facts["lines_after"] == ["silhouette", "crease", "curvature"]     # a click adds one kind
-    assert facts["lines_last"] == ["silhouette", "crease", "curvature", "suggestive"]
+    assert facts["lines_two"] == ["silhouette", "crease", "curvature", "suggestive"]
+    assert facts["lines_last"] == ["silhouette", "crease", "curvature", "suggestive", "ridges"]
     assert facts["state"] == "done"
-    assert all(facts["counts"][k] > 0 for k in ("Silhouette", "Curvature", "Suggestive")), facts["counts"]
+    assert all(facts["counts"][k] > 0 for k in ("Silhouette", "Curvature", "Suggestive", "Ridges")), facts["counts"]
     for name in ("lines_1_sidebar.png", "lines_2_curvature_on.png", "lines_3_traced.png"):
         shutil.copy(os.path.join(out, name), artifact(name))
     shot = read_png(artifact("lines_3_traced.png")).astype(float).mean(axis=2) / 255
@@ -386,3 +387,6 @@ def test_real_ui_an_artist_turns_on_curvature_lines_and_suggestive_contours(user
     pts = np.array(drawn["suggestive"], float)
     assert len(pts) >= 5
     assert np.median(_darkest(shot, pts)) < 0.3           # and so are the suggestive contours
+    pts = np.array(drawn["ridges"], float)
+    assert len(pts) >= 5
+    assert np.median(_darkest(shot, pts)) < 0.3           # and the apparent ridges

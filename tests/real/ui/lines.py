@@ -1,5 +1,6 @@
-"""Real-UI script: an artist turns on curvature-sign lines and suggestive contours in
-the sidebar and traces them, with the clicks and keys sent by xdotool. Python set-up (and why) is marked [Python].
+"""Real-UI script: an artist turns on curvature-sign lines, suggestive contours and
+apparent ridges in the sidebar and traces them, with the clicks and keys sent by
+xdotool. Python set-up (and why) is marked [Python].
 
 1. Past the splash (Escape); the extension enabled, the default cube deleted and the
    heart imported with its preview [Python: the file browser is not what this test is
@@ -10,10 +11,11 @@ the sidebar and traces them, with the clicks and keys sent by xdotool. Python se
    A screenshot; the Lines toggles are found on it: two a row, the first row of the
    sidebar that is mostly the selected-toggle blue (Silhouette and Crease are on),
    Curvature the grey toggle below Silhouette. A click on Curvature, then one on
-   Suggestive (right of it).
+   Suggestive (right of it); a screenshot, and a click on Ridges (below Curvature, now
+   blue).
 3. F3, "trace feature outlines", Return; the run's end awaited; a screenshot.
 
-Facts go to facts.json; the Curvature and Suggestive layers' points projected into the
+Facts go to facts.json; the Curvature, Suggestive and Ridges layers' points projected into the
 viewport (screen pixels) to lines_points.json."""
 import json
 import os
@@ -54,7 +56,7 @@ def below(px, x, y):
 
 
 def lines(tree):
-    return [k for k in ("silhouette", "crease", "curvature", "suggestive") if getattr(tree.ink, f"line_{k}")]
+    return [k for k in ("silhouette", "crease", "curvature", "suggestive", "ridges") if getattr(tree.ink, f"line_{k}")]
 
 
 def run():
@@ -103,8 +105,21 @@ def run():
     record(lines_after=lines(tree))
     yield {"action": "mouse", "x": cx + (x1 - x0) // 2, "y": cy, "click": 1, "pause": 0.5}
     yield from until(lambda: tree.ink.line_suggestive, 5, "a click on the Suggestive toggle")
+    yield {"action": "mouse", "x": x, "y": y, "pause": 0.5}     # away: Suggestive's tooltip would hide Ridges
     yield from redrawn(view3d)
     yield {"action": "screenshot", "name": "lines_2_curvature_on.png"}
+    record(lines_two=lines(tree))
+    # under Curvature: Ridges (Curvature's blue found near the toggle's left end, clear of
+    # its label, from the click on, then its bottom edge)
+    px = read_screen("lines_2_curvature_on.png")
+    top = cy
+    while not blue(px, top, x0 + 6, x0 + 7).all() and top < cy + 30:
+        top += 1
+    cy = below(px, x0 + 6, top) + 8
+    record(ridges_click=(cx, cy))
+    yield {"action": "mouse", "x": cx, "y": cy, "click": 1, "pause": 0.5}
+    yield from until(lambda: tree.ink.line_ridges, 5, "a click on the Ridges toggle")
+    yield from redrawn(view3d)
     record(lines_last=lines(tree))
 
     # --- 3. trace ---------------------------------------------------------------------------------
@@ -114,12 +129,12 @@ def run():
     yield from until(lambda: ill.last_run.get("state") in ENDED, 240, "the trace to end")
     ink = bpy.data.objects[f"{tree.name} Ink"]
     record(state=ill.last_run.get("state"),
-           counts={k: len(drawing_of(ink, k)) for k in ("Silhouette", "Crease", "Curvature", "Suggestive")})
+           counts={k: len(drawing_of(ink, k)) for k in ("Silhouette", "Crease", "Curvature", "Suggestive", "Ridges")})
     yield from redrawn(view3d)
     yield {"action": "screenshot", "name": "lines_3_traced.png"}
     with open(os.path.join(OUT, "lines_points.json"), "w") as fh:
         json.dump({k.lower(): in_viewport(win, vregion, rv3d, ink, drawing_of(ink, k))
-                   for k in ("Curvature", "Suggestive")}, fh)
+                   for k in ("Curvature", "Suggestive", "Ridges")}, fh)
 
 
 Steps(run())
