@@ -77,6 +77,7 @@ class Carried:
     seeds: list = field(default_factory=list)
     changed: object = EVERYWHERE
     age: int = 0                   # frames since the detail phase last looked everywhere (0: this one does)
+    same_eye: bool = False         # the eye is where the last frame's was
     complete: bool = False         # the last frame's session ran to its end: its creases and curvature-sign
                                    # lines where the field is the same are all there are
 
@@ -91,7 +92,8 @@ def carried(previous, model, view, settings):
     init = previous.init if region is None and previous.init is not None and \
         previous.init.resolution == settings.resolution else None
     age = previous.age + 1
-    out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age, complete=previous.complete)
+    out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age, complete=previous.complete,
+                  same_eye=same_eye)
     if region is EVERYWHERE:
         return out                      # as from scratch
     for o in previous.outlines:

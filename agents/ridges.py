@@ -11,25 +11,30 @@ ends in a flat face, q1 beside it is zero and its derivative's sign is noise), s
 ridge agents do not bracket: they climb.
 
 - **Corrector** (:func:`peak`): q1 at a point and a probe's distance to either side
-  along u (one batch, projected onto the surface); the point climbs (to the top of
-  the parabola through the three, or uphill) until q1 there is at least q1 to either
-  side, then again with the probe halved FINER times: a peak, a smooth crest or a
-  shoulder beside a flat face alike. Each point stays within ``reach`` of where it
-  started.
-- **Seeds**: the rough mesh's vertices that face the eye with q1 at least half RIDGE_MIN
-  (and the last frame's ridge points when the eye moved), corrected onto a peak; one
-  per SEED_APART steps, the highest q1 first.
-- **Tracing** (:class:`RidgeTraces`, one agent each way from a seed, all stepped
-  together each system iteration): a step along the ridge (the chord of the last two
-  points; from a seed, across u), corrected onto the peak no further than half a step
-  from the prediction. A trace ends where the corrector finds no peak (the ridge
-  fades, turns to face away, or q1 drops below RIDGE_MIN), where it turns by more
-  than TURN, or where it comes within JOIN steps of a point traced before (another
-  trace's, or its own far back: a loop closed), and after the session's outline limit.
-  Its points are a "ridges" outline; hidden parts are removed with the others'.
+  along u (one batch, projected onto the surface: Surface.probed); the point climbs
+  (to the top of the parabola through the three, or uphill) until q1 there is at least
+  q1 to either side, then again with the probe halved FINER times: a peak, a smooth
+  crest or a shoulder beside a flat face alike. Each point stays within ``reach`` of
+  where it started.
+- **Seeds**: the rough mesh's vertices that face the eye with q1 at least half
+  RIDGE_MIN (and the last frame's ridge points when the eye moved), corrected onto a
+  peak, REFINE_BATCH of them per system iteration; of each batch the highest q1 first,
+  SEED_APART steps apart. A seed starts two tasks, one each way along the ridge, each
+  as soon as an agent is idle; a seed a traced ridge passes is dropped.
+- **Tracing** (:class:`RidgeTraces`, every task stepped together each system
+  iteration): a step ahead, corrected onto the peak within a step of the prediction.
+  The first step from a seed tries the directions FAN about the one across u and
+  keeps the one the corrector moved least (it lay along the ridge); later steps go
+  along the chord of the last two points. A trace ends where the corrector finds no
+  peak (the ridge fades, turns to face away, or q1 drops below RIDGE_MIN), where it
+  turns by more than TURN, where it comes within a step of a ridge point traced before
+  (agents.traced: another trace's, a kept one's, or its own beyond SELF_GAP steps: a
+  loop closed), and after the session's outline limit. Its points are a "ridges"
+  outline; hidden parts are removed with the others'.
 """
 import numpy as np
 
+from ..blackboard.board import KIND_ID
 from ..model.curvature import curvature, view_dependent
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from .columns import Columns, Paths
@@ -37,17 +42,17 @@ from .outline import Outline
 from .steering import unit
 
 RIDGE_MIN = 4.0      # q1 of a ridge drawn, at least, over the model's size
-PROBE = 0.004        # q1's samples to either side of a point for its peak, a share of the model's size
+PEAK_PROBE = 0.004   # q1's samples to either side of a point for its peak, a share of the model's size
 PEAK_STEPS = 4       # corrector moves onto a peak before it gives up (a trace step's)
 SEED_CLIMBS = 12     # ... a seed's (a vertex may lie half a cell from the ridge)
 SEED_REACH = 4.0     # ... and how far it may move, in steps
 FINER = 3            # ... and, once at a peak, halvings of the probe to locate it closer
-ROUND = 0.25         # a peak whose parabola's top lies within this many PROBEs of it is round: it moves there
 FACING = 0.1         # n.v of a ridge point, at least (towards a silhouette q1 grows without bound)
 TURN = np.radians(50.0)   # a trace ends where its chord turns by more than this in one step
-JOIN = 0.6           # ... or within this many steps of a point traced before
-OWN_GAP = 4          # ... its own points count from this many steps back
-SEED_APART = 2.0     # seeds this many steps apart, at least
+FAN = np.radians([0.0, 30.0, -30.0, 60.0, -60.0])   # a first step's directions about the one across u
+SEED_APART = 2.0     # a batch's seeds this many steps apart, at least
+REFINE_BATCH = 1024  # candidate seeds corrected per system iteration
+RIDGE = KIND_ID["ridges"]
 
 _V = ((3,), float)
 
@@ -63,9 +68,8 @@ def _around(surface, X, g, d):
     direction (projected onto the surface), one batch; and that direction."""
     m = len(X)
     _, u = q1(surface, X, g)
-    D = d[:, None] * u
-    P, _, gP = surface.project(np.concatenate([X + D, X - D]), anchor=np.concatenate([X, X]))
-    q, _ = q1(surface, np.concatenate([X, P]), np.concatenate([g, gP]))
+    c, _, P, _ = surface.probed(X, g, u, d)
+    q, _ = view_dependent(c, surface.view.towards_eye(np.concatenate([X, P])))
     a = np.abs(q)
     return q[:m], a[:m], a[m:2 * m], a[2 * m:], u
 
@@ -77,19 +81,22 @@ def peak(surface, X, g, reach, climbs=PEAK_STEPS):
     least RIDGE_MIN over the model's size, facing the eye by FACING.
 
     A point is at a peak when q1 there is at least q1 a probe's distance to either
-    side. The probe starts at PROBE; at a peak it halves, FINER times, and the point
+    side. The probe starts at PEAK_PROBE; at a peak it halves, FINER times, and the point
     climbs on (a shoulder beside a flat face is located as closely as a smooth crest);
     at the finest probe it moves to the top of the parabola through the three samples
-    where that lies within ROUND probes (a smooth crest). Elsewhere it climbs to that
+    (within half a probe, as q1 there is at least either side's: on a smooth crest its
+    top, beside a shoulder at most half the finest probe). Elsewhere it climbs to that
     parabola's top, at most a probe away, or to the higher sample where the parabola
     opens upwards."""
     X, g = np.array(X, float), np.array(g, float)
     start = X.copy()
     reach = np.broadcast_to(np.asarray(reach, float), len(X))
-    d = np.full(len(X), PROBE * surface.scale)
-    finest = PROBE * surface.scale / 2 ** FINER
+    d = np.full(len(X), PEAK_PROBE * surface.scale)
+    finest = PEAK_PROBE * surface.scale / 2 ** FINER
     ok = np.zeros(len(X), bool)
-    live = np.flatnonzero(np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(g), axis=1))
+    # a point without a gradient (a flat field) has no normal, hence no q1
+    live = np.flatnonzero(np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(g), axis=1) &
+                          (np.einsum("ij,ij->i", g, g) > 1e-300))
     for move in range(climbs + FINER + 1):
         if len(live) == 0:
             break
@@ -105,10 +112,9 @@ def peak(surface, X, g, reach, climbs=PEAK_STEPS):
         shows = at & ~finer & (signed * surface.scale >= RIDGE_MIN)
         d[live[finer]] *= 0.5                       # it stays, to be probed closer
         go = big & ~at & (move < climbs + FINER)
-        # at the peak: onto the parabola's top where the peak is round (a shoulder's
-        # parabola is no model of it: it stays); else a climb of at most a probe (no further
+        # at the peak: onto the parabola's top; else a climb of at most a probe (no further
         # than the higher sample: beyond a shoulder lies a flat face)
-        top = np.where(shows, np.where(np.abs(top) <= ROUND * dl, top, 0.0), np.clip(top, -dl, dl))
+        top = np.where(shows, np.clip(top, -0.5 * dl, 0.5 * dl), np.clip(top, -dl, dl))
         moving = shows | go
         stays = live[finer]
         live, u, top = live[moving], u[moving], top[moving]
@@ -123,136 +129,154 @@ def peak(surface, X, g, reach, climbs=PEAK_STEPS):
 
 
 class RidgeTraces:
-    """The apparent ridge tasks of a session: the seeds waiting for agents and the tasks
-    tracing, one row each (its agent, seed serial, way along the ridge +1 or -1, last
-    point, gradient, direction and step index), their points pooled (agents.columns.
-    Paths), and every ridge point so far (kept ones too), which ends a trace that comes
-    near. Given the surface, the agent pool, the session's trace step, the outline
-    length limit, the rough mesh's vertices and gradients to seed from, and the last
-    frame's ridge outlines to keep as they are (``kept``) or to seed from (``moved``)."""
+    """The apparent ridge tasks of a session: the candidate seeds not corrected yet, the
+    starts waiting for an agent (a seed's two ways), and the tasks tracing, one row
+    each (its agent, its seed's serial, which is its outline's id, its way along the
+    ridge, +1 or -1, its last point, gradient, direction and step index), their points
+    pooled (agents.columns.Paths). Given the surface, the agent pool, the session's
+    traced points (agents.traced.TracedPoints: the ridges traced, and kept from the
+    last frame, end a trace that comes near), its trace step and outline length limit,
+    and the candidate seeds: points with their gradients (the rough mesh's vertices)
+    and the last frame's ridge outlines whose eye moved (``moved``)."""
 
-    def __init__(self, surface, pool, step_len, max_steps, V, gV, kept=(), moved=()):
-        self.surface, self.pool, self.step_len, self.max_steps = surface, pool, step_len, max_steps
-        self._candidates = (V, gV, list(moved))
-        self.seeds = None                        # (X, g, u) refined, best first; None: not yet
+    def __init__(self, surface, pool, traced, step_len, max_steps, V, gV, moved=()):
+        self.surface, self.pool, self.traced = surface, pool, traced
+        self.step_len, self.max_steps = step_len, max_steps
+        moved = [np.asarray(o.points, float) for o in moved if len(o.points)]
+        # candidates: (points, gradients or None: to be projected first), a batch at a time
+        self._candidates = [(V[a:a + REFINE_BATCH], gV[a:a + REFINE_BATCH]) for a in range(0, len(V), REFINE_BATCH)]
+        P = np.concatenate(moved) if moved else np.zeros((0, 3))
+        self._candidates += [(P[a:a + REFINE_BATCH], None) for a in range(0, len(P), REFINE_BATCH)]
+        self.starts = Columns(serial=((), np.int64), way=((), np.int64), p=_V, g=_V, t=_V)
         self.table = Columns(agent=((), np.int64), serial=((), np.int64), way=((), np.int64), p=_V, g=_V,
                              t=_V, arc=((), np.int64))
         self.paths = Paths()
-        self.serial = 0
-        self.done = [o for o in kept if len(o.points)]
-        kept_points = [np.asarray(o.points, float) for o in self.done]
-        self._seen = np.concatenate(kept_points) if kept_points else np.zeros((0, 3))
-        self._seen_serial = np.full(len(self._seen), -1, np.int64)    # -1: kept, nobody's own
-        self._seen_arc = np.zeros(len(self._seen), np.int64)
+        self.serial = 0                 # the next seed's serial
+        self.started = 0                # tasks started so far
+        self.done = []                  # the outlines of the tasks that ended
+        self._seeded = set()            # the seeds whose point is among the traced ones
 
     def __len__(self):
         return len(self.table)
 
-    @property
-    def waiting(self):
-        """Seeds not started yet (before the first assignment: the candidates, as one)."""
-        if self.seeds is None:
-            return int(len(self._candidates[0]) + len(self._candidates[2]) > 0)
-        return len(self.seeds[0])
+    def waiting(self, where):
+        """Starts and candidate seeds left where ``where`` (a predicate on points) holds."""
+        left = int(where(self.starts.p).sum()) if self.starts else 0
+        return left + sum(int(where(P).any()) for P, _ in self._candidates)
 
-    def _refine_seeds(self):
-        """The candidates onto q1's peaks, one batch: the mesh's vertices facing the eye
-        with q1 at least half RIDGE_MIN, and the last frame's ridge points."""
-        V, gV, moved = self._candidates
+    def _refine(self):
+        """The next batch of candidates onto q1's peaks: its seeds, best first, join the
+        starts."""
+        P, g = self._candidates.pop(0)
         surface = self.surface
-        if len(V):
-            facing = np.einsum("ij,ij->i", surface.normals(gV), surface.view.towards_eye(V)) >= FACING
-            V, gV = V[facing], gV[facing]
-            q = q1(surface, V, gV)[0]
-            big = np.isfinite(q) & (q * surface.scale >= 0.5 * RIDGE_MIN)
-            V, gV = V[big], gV[big]
-        if moved:
-            P = np.concatenate([np.asarray(o.points, float) for o in moved])
+        if g is None:                        # the last frame's points: onto this frame's surface
             P, f, g = surface.project(P)
-            near = on_surface(f, surface.iso, NEAR_SURFACE)
-            V, gV = np.concatenate([V, P[near]]), np.concatenate([gV, g[near]])
-        X, g, ok = peak(surface, V, gV, reach=SEED_REACH * self.step_len, climbs=SEED_CLIMBS)
+            on = on_surface(f, surface.iso, NEAR_SURFACE)
+            P, g = P[on], g[on]
+        facing = np.einsum("ij,ij->i", surface.normals(g), surface.view.towards_eye(P)) >= FACING
+        P, g = P[facing], g[facing]
+        q = q1(surface, P, g)[0]
+        big = np.isfinite(q) & (q * surface.scale >= 0.5 * RIDGE_MIN)
+        X, g, ok = peak(surface, P[big], g[big], reach=SEED_REACH * self.step_len, climbs=SEED_CLIMBS)
         X, g = X[ok], g[ok]
         q, u = q1(surface, X, g)
         order = np.argsort(-q, kind="stable")
         X, g, u = X[order], g[order], u[order]
         keep = _apart(X, SEED_APART * self.step_len)
-        self.seeds = (X[keep], g[keep], u[keep])
-
-    def assign(self, where):
-        """Start a task each way from the best seeds, as many as there are pairs of idle
-        agents, skipping seeds where ``where`` (a predicate on points) is False and
-        seeds a trace passed already."""
-        if self.seeds is None:
-            self._refine_seeds()
-        X, g, u = self.seeds
-        if len(X) == 0 or len(self.pool) < 2:
-            return
-        live = where(X) & (self._nearest(X, np.full(len(X), -2), np.zeros(len(X), np.int64)) > JOIN * self.step_len)
-        X, g, u = X[live], g[live], u[live]
-        k = min(len(X), len(self.pool) // 2)
-        # seeds left over stay queued (those a trace passed are dropped when looked at next)
-        start, self.seeds = (X[:k], g[:k], u[:k]), (X[k:], g[k:], u[k:])
-        X, g, u = start
-        if k == 0:
-            return
+        X, g, u = X[keep], g[keep], u[keep]
+        k = len(X)
         serial = self.serial + np.arange(k)
         self.serial += k
-        t = unit(np.cross(self.surface.normals(g), u))
-        self.table.append(2 * k, agent=self.pool.take(2 * k), serial=np.tile(serial, 2),
-                          way=np.repeat([1, -1], k), p=np.tile(X, (2, 1)), g=np.tile(g, (2, 1)),
-                          t=np.concatenate([t, -t]), arc=0)
-        self.paths.add(2 * serial, 0, X, self.surface.normals(g))     # the seed: the forward task's
-        self._remember(X, serial, np.zeros(k, np.int64))
+        t = unit(np.cross(surface.normals(g), u))
+        self.starts.append(2 * k, serial=np.repeat(serial, 2), way=np.tile([1, -1], k), p=np.repeat(X, 2, axis=0),
+                           g=np.repeat(g, 2, axis=0), t=np.repeat(t, 2, axis=0) * np.tile([1.0, -1.0], k)[:, None])
+
+    def assign(self, where):
+        """Start tasks on the waiting starts where ``where`` (a predicate on points) holds,
+        as many as there are idle agents (correcting the next batch of candidates when
+        none is waiting); a start on a ridge traced already is dropped."""
+        while self._candidates and not (self.starts and where(self.starts.p).any()):
+            self._refine()
+        if not self.starts or len(self.pool) == 0:
+            return
+        st = self.starts
+        hit = self._traced_near(st.p, st.serial, np.zeros(len(st), np.int64), st.g)
+        st.keep(~hit)
+        here = np.flatnonzero(where(st.p))[:len(self.pool)]
+        if len(here) == 0:
+            return
+        go = np.zeros(len(st), bool)
+        go[here] = True
+        serial, way, P, g, t = st.serial[go], st.way[go], st.p[go], st.g[go], st.t[go]
+        st.keep(~go)
+        k = len(serial)
+        self.table.append(k, agent=self.pool.take(k), serial=serial, way=way, p=P, g=g, t=t, arc=0)
+        self.started += k
+        # a seed's point is its forward task's first, added when its first task starts
+        first = ~np.isin(serial, list(self._seeded)) & ((way > 0) | ~np.isin(serial, serial[way > 0]))
+        self._seeded.update(serial[first].tolist())
+        n = self.surface.normals(g[first])
+        self.paths.add(_path(serial[first], 1), 0, P[first], n)
+        self.traced.add(RIDGE, P[first], serial[first], 0, n, self.step_len)
+
+    def _traced_near(self, X, serial, arc, g):
+        """Whether a ridge point traced so far lies within a step of each point X (its
+        outline's own count beyond agents.traced.SELF_GAP steps of ``arc``)."""
+        if len(X) == 0:
+            return np.zeros(0, bool)
+        loop = self.traced.loop(np.full(len(X), RIDGE), X, self.step_len, serial, arc, self.surface.normals(g))
+        return np.array([loop.hit(i) is not None for i in range(len(X))], bool)
 
     def step(self):
         """One step of every ridge task."""
         tk, surface, h = self.table, self.surface, self.step_len
         if not tk:
             return
-        Y, _, gY = surface.project(tk.p + h * tk.t, anchor=tk.p)
-        X, gX, ok = peak(surface, Y, gY, reach=0.5 * h)
-        chord = X - tk.p
-        length = np.linalg.norm(chord, axis=1)
+        m = len(tk)
+        # the tries: one ahead for each task, the FAN of directions for a first step
+        first = np.flatnonzero(tk.arc == 0)
+        rows = np.concatenate([np.arange(m), np.repeat(first, len(FAN) - 1)])
+        n0 = surface.normals(tk.g)
+        D = tk.t.copy()[rows]
+        ang = np.concatenate([np.zeros(m), np.tile(FAN[1:], len(first))])
+        side = np.cross(n0[rows], D)
+        D = np.cos(ang)[:, None] * D + np.sin(ang)[:, None] * side
+        Y, _, gY = surface.project(tk.p[rows] + h * D, anchor=tk.p[rows])
+        X, gX, ok = peak(surface, Y, gY, reach=h)
+        chord = X - tk.p[rows]
         c = unit(chord)
-        ok &= (length > 0.25 * h) & (np.einsum("ij,ij->i", c, tk.t) >= np.cos(TURN))
+        ok &= (np.linalg.norm(chord, axis=1) > 0.25 * h) & (np.einsum("ij,ij->i", c, D) >= np.cos(TURN))
+        # each task's try: the one the corrector moved least, among those that worked
+        moved = np.where(ok, np.linalg.norm(X - Y, axis=1), np.inf)
+        order = np.lexsort((np.arange(len(rows)), moved, rows))
+        lead = order[np.r_[True, rows[order][1:] != rows[order][:-1]]]
+        pick = np.empty(m, np.int64)
+        pick[rows[lead]] = lead
+        ok = np.isfinite(moved[pick])
+        X, gX, c = X[pick], gX[pick], c[pick]
         arc = tk.arc + tk.way
-        ok &= self._nearest(X, tk.serial, arc) > JOIN * h
         ok &= np.abs(arc) < self.max_steps
-        ok[_clashes(X, ok, JOIN * h)] = False      # two tasks meeting in this step: the first goes on
-        keep = np.flatnonzero(ok)
-        self.paths.add(_path(tk.serial[keep], tk.way[keep]), arc[keep], X[keep], surface.normals(gX[keep]))
-        self._remember(X[keep], tk.serial[keep], arc[keep])
         n = surface.normals(gX)
-        t = unit(c - np.einsum("ij,ij->i", c, n)[:, None] * n)
-        tk.p, tk.g, tk.t, tk.arc = X, gX, t, arc
+        got = np.flatnonzero(ok)
+        loop = self.traced.loop(np.full(len(got), RIDGE), X[got], h, tk.serial[got], arc[got], n[got],
+                                new=(np.full(len(got), RIDGE), X[got], n[got], tk.serial[got], arc[got],
+                                     np.full(len(got), h)), upto=np.arange(len(got)))
+        for i, r in enumerate(got.tolist()):      # in task order: a point kept before counts for the next
+            if loop.hit(i) is None:
+                loop.keep(i)
+            else:
+                ok[r] = False
+        loop.commit()
+        keep = np.flatnonzero(ok)
+        self.paths.add(_path(tk.serial[keep], tk.way[keep]), arc[keep], X[keep], n[keep])
+        tk.p, tk.g, tk.t, tk.arc = X, gX, unit(c - np.einsum("ij,ij->i", c, n)[:, None] * n), arc
         self._finish(np.flatnonzero(~ok))
         tk.keep(ok)
-
-    def _remember(self, X, serial, arc):
-        self._seen = np.concatenate([self._seen, X])
-        self._seen_serial = np.concatenate([self._seen_serial, serial])
-        self._seen_arc = np.concatenate([self._seen_arc, arc])
-
-    def _nearest(self, X, serial, arc):
-        """The distance from each point X to the nearest ridge point so far, leaving out
-        its own task's (seed ``serial``) last OWN_GAP steps to either side of ``arc``."""
-        if len(self._seen) == 0 or len(X) == 0:
-            return np.full(len(X), np.inf)
-        best = np.full(len(X), np.inf)
-        for a in range(0, len(X), 256):           # bounded memory: 256 rows of distances at a time
-            b = min(a + 256, len(X))
-            d = np.linalg.norm(X[a:b, None, :] - self._seen[None, :, :], axis=2)
-            own = (self._seen_serial[None, :] == serial[a:b, None]) & \
-                (np.abs(self._seen_arc[None, :] - arc[a:b, None]) < OWN_GAP)
-            d[own] = np.inf
-            best[a:b] = d.min(axis=1)
-        return best
 
     def _finish(self, rows):
         """Tasks ``rows`` ended: their agents are idle again, their points an outline."""
         tk = self.table
-        for r, (pts, nrm) in zip(rows.tolist(), self.paths.of(_path(tk.serial[rows], tk.way[rows]))):
+        for r, (pts, nrm) in zip(rows.tolist(), self.paths.of(_path(tk.serial[rows], tk.way[rows]), remove=True)):
             self.pool.give_back([int(tk.agent[r])])
             if len(pts):
                 self.done.append(Outline("ridges", pts, nrm, False, self.step_len))
@@ -262,19 +286,9 @@ class RidgeTraces:
                 for pts, nrm in self.paths.of(_path(self.table.serial, self.table.way)) if len(pts)]
 
 
-def _clashes(X, ok, r):
-    """Rows of points X (those ``ok``) within r of an earlier row's ``ok`` point."""
-    rows = np.flatnonzero(ok)
-    if len(rows) < 2:
-        return rows[:0]
-    d = np.linalg.norm(X[rows, None, :] - X[None, rows, :], axis=2)
-    near = np.triu(d < r, 1)                 # (i, j): j comes after i
-    return rows[near.any(axis=0)]
-
-
 def _path(serial, way):
     """The pooled paths' key of the tasks of seeds ``serial`` going ``way``."""
-    return 2 * serial + (way < 0)
+    return 2 * np.asarray(serial) + (np.asarray(way) < 0)
 
 
 def _apart(X, r):

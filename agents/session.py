@@ -149,15 +149,18 @@ class Session:
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
                                    s.explore_steps)
         # the last frame's outlines where nothing changed, and its silhouettes followed
-        self.traces.add_traced([o for o in self.carried.kept if o.kind != "ridges"] + followed)
+        self.traces.add_traced(self.carried.kept + followed)
         self.traces.extend(followed, len(self.carried.kept))   # ... traced on from the followed ones' ends
-        # apparent ridges: their own agents, seeded from the vertices (and the last frame's)
-        ridges = "ridges" in s.kinds
-        V = self.mesh.vertices if ridges else np.zeros((0, 3))
-        gV = -curv["normal"] * curv["grad_norm"][:, None] if ridges else np.zeros((0, 3))
-        self.ridges = RidgeTraces(self.surface, self.pool, self.step_len, s.max_outline_steps, V, gV,
-                                  kept=[o for o in self.carried.kept if o.kind == "ridges"],
-                                  moved=[o for o in moved if o.kind == "ridges"])
+        # apparent ridges: their own agents, seeded from the vertices (where the field changed,
+        # when the eye stayed and the last frame's session ran to its end: elsewhere its
+        # ridges are kept) and from the last frame's when the eye moved
+        V, gV = self.mesh.vertices, -curv["normal"] * curv["grad_norm"][:, None]
+        here = np.full(len(V), "ridges" in s.kinds)
+        if self.carried.same_eye and self.carried.complete and changed is not EVERYWHERE:
+            here &= False if changed is None else changed.contains(V, pad=self.h)
+        V, gV = V[here], gV[here]
+        self.ridges = RidgeTraces(self.surface, self.pool, self.traces.traced, self.step_len, s.max_outline_steps,
+                                  V, gV, moved=[o for o in moved if o.kind == "ridges"])
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
         self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age else None
@@ -290,7 +293,7 @@ class Session:
     @property
     def tasks_left(self):
         return len(self._open_seeds()) + len(self.explorers.queue) + len(self.traces) + len(self.explorers) + \
-            self.ridges.waiting + len(self.ridges)
+            self.ridges.waiting(self._in_regions) + len(self.ridges)
 
     @property
     def done(self):
@@ -378,8 +381,9 @@ class Session:
                 "outline_length": total_length(outs),
                 "outlines": len(outs), "busy_agents": self.pool.busy,
                 "seeds": len(used), "seeds_taken": int(np.count_nonzero(used)),
-                "tasks_started": self.traces.serial + self.explorers.started,
-                "tasks_ended": self.traces.serial - len(self.traces) + self.explorers.started - len(self.explorers)}
+                "tasks_started": self.traces.serial + self.explorers.started + self.ridges.started,
+                "tasks_ended": self.traces.serial - len(self.traces) + self.explorers.started - len(self.explorers)
+                + self.ridges.started - len(self.ridges)}
 
     def snapshot(self, stitch=True):
         """What the session has found so far, as a plain :class:`Sampling` value (the

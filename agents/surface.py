@@ -200,7 +200,7 @@ class Surface:
         if len(X) == 0:
             return np.zeros(0, bool)
         m = len(X)
-        c, here, _, _ = self._probed(X, g, unit(np.cross(self.normals(g), T)))
+        c, here, _, _ = self.probed(X, g, unit(np.cross(self.normals(g), T)))
         mean = c["k1"] + c["k2"]
         return _crossing(mean, here, m, self.scale) & (np.abs(mean[:m]) <= ZERO_MEAN * here[:m])
 
@@ -214,16 +214,17 @@ class Surface:
             return np.zeros(0, bool)
         n, v = self.normals(g), self.view.towards_eye(X)
         w = v - np.einsum("ij,ij->i", v, n)[:, None] * n
-        c, here, P, _ = self._probed(X, g, unit(w))          # + side: towards the eye
+        c, here, P, _ = self.probed(X, g, unit(w))          # + side: towards the eye
         kr = radial(c, self.view.towards_eye(np.concatenate([X, P])))[0]
         ok = _crossing(kr, here, m, self.scale, ordered=True) & (np.abs(kr[:m]) <= ZERO_MEAN * here[:m])
         return ok & (np.einsum("ij,ij->i", n, v) > 0) & (np.linalg.norm(w, axis=1) >= OBLIQUE)
 
-    def _probed(self, X, g, W):
-        """The curvature at X and at PROBE to either side along W (projected onto the
-        surface), one batch: the curvature dict over the 3m points, |k1| + |k2| there,
-        and the probes with their gradients."""
-        d = PROBE * self.scale * W
+    def probed(self, X, g, W, d=None):
+        """The curvature at X and ``d`` (per point; default PROBE of the model's size) to
+        either side along the unit directions W (projected onto the surface), one batch:
+        the curvature dict over the 3m points, |k1| + |k2| there, and the probes with
+        their gradients."""
+        d = (PROBE * self.scale if d is None else np.asarray(d, float)[:, None]) * W
         P, _, gP = self.project(np.concatenate([X + d, X - d]), anchor=np.concatenate([X, X]))
         c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([g, gP]))
         return c, np.abs(c["k1"]) + np.abs(c["k2"]), P, gP

@@ -129,10 +129,10 @@ def view_dependent(c, towards_eye):
     s1 /= np.linalg.norm(s1, axis=1, keepdims=True)
     s2 = np.cross(towards_eye, s1)
     J = np.stack([np.stack([np.einsum("ij,ij->i", d, s) for d in (d1, d2)], 1) for s in (s1, s2)], 1)
-    S = np.zeros((len(n), 2, 2))
-    S[:, 0, 0], S[:, 1, 1] = c["k1"], c["k2"]
     det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
-    ok = np.isfinite(det) & (np.abs(det) > 1e-12) & np.isfinite(c["k1"])
+    ok = np.isfinite(det) & (np.abs(det) > 1e-12) & np.isfinite(c["k1"]) & np.isfinite(c["k2"])
+    S = np.zeros((len(n), 2, 2))            # none where there is no curvature (a flat field)
+    S[ok, 0, 0], S[ok, 1, 1] = c["k1"][ok], c["k2"][ok]
     Ji = np.zeros_like(J)
     Ji[ok] = np.linalg.inv(J[ok])
     _, sig, Vt = np.linalg.svd(S @ Ji)
