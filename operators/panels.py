@@ -30,6 +30,7 @@ def _draw_tree(layout, tree):
         op = grid.operator("blobtree_ink.illustrate", text=key.replace("_", " ").title())
         op.tree_name, op.preset, op.request = tree.name, key, "PLACE_STROKES"
     s = tree.ink
+    layout.label(text="Lines to trace")
     grid = layout.grid_flow(row_major=True, columns=2, even_columns=True, align=True)   # the lines, two a row
     for kind in FEATURE_KINDS:
         grid.prop(s, f"line_{kind}", toggle=True)
