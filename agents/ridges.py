@@ -15,7 +15,8 @@ ridge agents do not bracket: they climb.
   (to the top of the parabola through the three, or uphill) until q1 there is at least
   q1 to either side, then again with the probe halved FINER times: a peak, a smooth
   crest or a shoulder beside a flat face alike. Each point stays within ``reach`` of
-  where it started.
+  where it started. A peak within PEAK_PROBE of a CSG crease (the branch records to
+  either side differ) is the crease's, not a ridge.
 - **Seeds**: the rough mesh's vertices that face the eye with q1 at least half
   RIDGE_MIN (and the last frame's ridge points when the eye moved), corrected onto a
   peak, REFINE_BATCH of them per system iteration; of each batch the highest q1 first,
@@ -39,6 +40,7 @@ from ..model.curvature import curvature, view_dependent
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from .columns import Columns, Paths
 from .outline import Outline
+from .sheets import record_ends
 from .steering import unit
 
 RIDGE_MIN = 4.0      # q1 of a ridge drawn, at least, over the model's size
@@ -94,6 +96,7 @@ def peak(surface, X, g, reach, climbs=PEAK_STEPS):
     d = np.full(len(X), PEAK_PROBE * surface.scale)
     finest = PEAK_PROBE * surface.scale / 2 ** FINER
     ok = np.zeros(len(X), bool)
+    across = np.zeros_like(X)                   # q1's direction at each point found
     # a point without a gradient (a flat field) has no normal, hence no q1
     live = np.flatnonzero(np.all(np.isfinite(X), axis=1) & np.all(np.isfinite(g), axis=1) &
                           (np.einsum("ij,ij->i", g, g) > 1e-300))
@@ -122,9 +125,17 @@ def peak(surface, X, g, reach, climbs=PEAK_STEPS):
             Y, fY, gY = surface.project(X[live] + top[:, None] * u, anchor=X[live])
             near = on_surface(fY, surface.iso, NEAR_SURFACE) & (np.linalg.norm(Y - start[live], axis=1) <= reach[live])
             X[live[near]], g[live[near]] = Y[near], gY[near]
-            ok[live[near & shows[moving]]] = True
+            found = near & shows[moving]
+            ok[live[found]], across[live[found]] = True, u[found]
             live = live[near & ~shows[moving]]
         live = np.sort(np.concatenate([live, stays]))
+    # a peak beside a crease is the crease's (its q1 there, from the Hessian across the
+    # jump of the normal, means nothing): the branch records a PEAK_PROBE to either side
+    # differ
+    f = np.flatnonzero(ok)
+    if len(f):
+        D = PEAK_PROBE * surface.scale * across[f]
+        ok[f[record_ends(surface, X[f] + D, X[f] - D)[1]]] = False
     return X, g, ok
 
 

@@ -92,23 +92,32 @@ def test_generated_models_trace_right(doc):
     s, eye = session_of(doc)
     if s is None:
         return
+    sil = points_on_the_surface(s, "silhouette")
+    if len(sil):
+        assert truth.silhouette_residual(s.ev, sil, eye).max() < SILHOUETTE_NV
+    cre = points_on_the_surface(s, "crease", CHECKED)
+    if len(cre):
+        assert truth.on_a_crease(s.ev, cre).all()
+
+
+def points_on_the_surface(s, kind, most=None):
+    """Session s's outline points of ``kind`` (at most ``most``, spread along them),
+    having checked that every outline point, of every kind, is finite and on the
+    surface."""
     outs = s.outlines()
     for o in outs:
         assert np.isfinite(o.points).all()
         assert truth.on_the_surface(s.ev, o.points).all(), o.kind
-    sil = [o.points for o in outs if o.kind == "silhouette"]
-    if sil:
-        assert truth.silhouette_residual(s.ev, np.concatenate(sil), eye).max() < SILHOUETTE_NV
-    cre = [o.points for o in outs if o.kind == "crease"]
-    if cre:
-        X = np.concatenate(cre)
-        X = X[np.linspace(0, len(X) - 1, min(len(X), CHECKED)).astype(int)]
-        assert truth.on_a_crease(s.ev, X).all()
+    X = np.concatenate([o.points for o in outs if o.kind == kind] or [np.zeros((0, 3))])
+    return X if most is None else X[np.linspace(0, len(X) - 1, min(len(X), most)).astype(int)]
 
 
 @settings(max_examples=EXAMPLES // 2, derandomize=True, database=None, deadline=None,
           suppress_health_check=list(HealthCheck))
 @given(models)
+@example({"format": "blobtree-1", "root": {"type": "union", "children": [     # no ridge along a union's crease
+    {"type": "point", "center": [1.0, 0.0, 0.0], "radius": 0.375},
+    {"type": "point", "center": [0.75, 0.0, 0.0], "radius": 0.5}]}})
 def test_generated_models_trace_every_kind_right(doc):
     """Every kind of line at once (curvature-sign lines, suggestive contours and
     apparent ridges too): the session ends, every point lies on the surface, and every
@@ -117,14 +126,8 @@ def test_generated_models_trace_every_kind_right(doc):
     if s is None:
         return
     assert s.done
-    outs = s.outlines()
-    for o in outs:
-        assert np.isfinite(o.points).all()
-        assert truth.on_the_surface(s.ev, o.points).all(), o.kind
-    rid = [o.points for o in outs if o.kind == "ridges"]
-    if rid:
-        X = np.concatenate(rid)
-        X = X[np.linspace(0, len(X) - 1, min(len(X), CHECKED)).astype(int)]
+    X = points_on_the_surface(s, "ridges", CHECKED)
+    if len(X):
         assert truth.ridge_points(s.ev, X, eye, ridges.RIDGE_MIN, ridges.FACING, ridges.PEAK_PROBE).all()
 
 

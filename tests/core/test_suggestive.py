@@ -5,14 +5,12 @@ removed, and a moved eye looks for them again."""
 import numpy as np
 
 from blobtree_ink import model as M
-from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents.continuation import carried
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.curvature import curvature, radial
-from blobtree_ink.strokes import style as ST
-from blobtree_ink.strokes.style import SPECK
 from blobtree_ink.strokes.visibility import visible
+from conftest import shown_strokes
 from test_curvature_lines import torus
 
 KINDS = ("silhouette", "suggestive")
@@ -99,15 +97,7 @@ def test_their_hidden_parts_are_removed():
     ev = M.Evaluator(model(root))
     shown = visible(ev, X, EYE)
     assert shown.sum() > 5 and (~shown).sum() > 5
-    job = PL.Job(ev, View(eye=EYE), None, ST.style("outlines"), (PL.Request("OUTLINES"),), 0,
-                 Settings(resolution=20, kinds=KINDS))
-    ill = PL.Illustration(job)
-    strokes = ill.run().strokes.layers["Suggestive"]
-    P = np.concatenate([st.points for st in strokes])
-    lengths = [np.linalg.norm(np.diff(st.points, axis=0), axis=1).sum() for st in strokes]
-    assert min(lengths) >= SPECK * ill.session.step_len
-    assert visible(ev, P, EYE).all()
-    assert np.linalg.norm(X[~shown][:, None] - P[None], axis=2).min() > 1e-6      # the hidden points are gone
+    shown_strokes(ev, EYE, KINDS, "Suggestive", X)
 
 
 def test_a_moved_eye_looks_for_them_again():
