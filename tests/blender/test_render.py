@@ -225,28 +225,38 @@ def test_the_command_line_and_the_operator_draw_the_same_strokes(ext, example, t
     assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
 
 
+def lines_by_cli_and_panel(ext, example, tmp_path, name, grid, lines):
+    """The strokes of ``name`` traced with the kinds ``lines`` through the command line
+    (--lines, at grid ``grid``) and through the sidebar's toggles (the tree's line_*
+    settings): the same strokes, each layer's stroke count; the tree's, for more."""
+    code = ext.cli.main(["render", example(name), "--out", str(tmp_path), "--size", "128", "--grid", str(grid),
+                         "--lines", ",".join(lines)], out=io.StringIO())
+    assert code == 0
+    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / f"{name}.blend"))
+    gp = bpy.data.objects[f"{name} Ink"].data
+    count = {layer.name: len(layer.frames[0].drawing.strokes) if len(layer.frames) else 0 for layer in gp.layers}
+    cli = SM.from_grease_pencil(bpy.data.objects[f"{name} Ink"])
+    bpy.data.objects.remove(bpy.data.objects[f"{name} Ink"])
+    bpy.ops.blobtree_ink.import_json(filepath=example(name), preview=False)
+    tree = bpy.data.node_groups[name]
+    tree.ink.grid_resolution = grid
+    for kind in ("silhouette", "crease", "curvature", "suggestive", "ridges"):
+        setattr(tree.ink, f"line_{kind}", kind in lines)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=name, request="OUTLINES") == {"FINISHED"}
+    op = SM.from_grease_pencil(bpy.data.objects[f"{name} Ink"])
+    _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example(name))))
+    assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
+    return count, op, tree
+
+
 def test_curvature_lines_through_the_command_line_and_the_panel_toggles(ext, example, tmp_path):
     """--lines picks the kinds of outline the agents trace, as the sidebar's Lines toggles
     do; both draw the pear's curvature-sign lines (its concave neck) and suggestive
     contours on their own layers, the same strokes."""
-    code = ext.cli.main(["render", example("pear"), "--out", str(tmp_path), "--size", "128", "--grid", "12",
-                         "--lines", "suggestive,curvature,silhouette"], out=io.StringIO())
-    assert code == 0
-    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "pear.blend"))
-    gp = bpy.data.objects["pear Ink"].data
-    count = {layer.name: len(layer.frames[0].drawing.strokes) if len(layer.frames) else 0 for layer in gp.layers}
+    count, op, tree = lines_by_cli_and_panel(ext, example, tmp_path, "pear", 12,
+                                             ("suggestive", "curvature", "silhouette"))
     assert count["Curvature"] > 0 and count["Silhouette"] > 0 and count["Suggestive"] > 0, count
     assert count.get("Crease", 0) == 0
-    cli = SM.from_grease_pencil(bpy.data.objects["pear Ink"])
-    bpy.data.objects.remove(bpy.data.objects["pear Ink"])
-    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
-    tree = bpy.data.node_groups["pear"]
-    tree.ink.grid_resolution = 12
-    tree.ink.line_crease, tree.ink.line_curvature, tree.ink.line_suggestive = False, True, True
-    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
-    op = SM.from_grease_pencil(bpy.data.objects["pear Ink"])
-    _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example("pear"))))
-    assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
     # with every kind off there is nothing to trace: a named error, the drawing kept
     tree.ink.line_silhouette = tree.ink.line_curvature = tree.ink.line_suggestive = False
     with pytest.raises(RuntimeError, match="must be one or more of silhouette, crease, curvature, suggestive, ridges, got none"):
@@ -257,24 +267,9 @@ def test_curvature_lines_through_the_command_line_and_the_panel_toggles(ext, exa
 def test_apparent_ridges_through_the_command_line_and_the_panel_toggle(ext, example, tmp_path):
     """--lines ridges and the sidebar's Ridges toggle draw the heart's apparent ridges
     (its veins' crests) on their own layer, the same strokes."""
-    code = ext.cli.main(["render", example("heart"), "--out", str(tmp_path), "--size", "128", "--grid", "16",
-                         "--lines", "ridges,silhouette"], out=io.StringIO())
-    assert code == 0
-    bpy.ops.wm.open_mainfile(filepath=str(tmp_path / "heart.blend"))
-    gp = bpy.data.objects["heart Ink"].data
-    count = {layer.name: len(layer.frames[0].drawing.strokes) if len(layer.frames) else 0 for layer in gp.layers}
+    count, _, _ = lines_by_cli_and_panel(ext, example, tmp_path, "heart", 16, ("ridges", "silhouette"))
     assert count["Ridges"] > 0 and count["Silhouette"] > 0, count
     assert count.get("Crease", 0) == 0 and count.get("Suggestive", 0) == 0
-    cli = SM.from_grease_pencil(bpy.data.objects["heart Ink"])
-    bpy.data.objects.remove(bpy.data.objects["heart Ink"])
-    bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
-    tree = bpy.data.node_groups["heart"]
-    tree.ink.grid_resolution = 16
-    tree.ink.line_crease, tree.ink.line_ridges = False, True
-    assert bpy.ops.blobtree_ink.illustrate(tree_name="heart", request="OUTLINES") == {"FINISHED"}
-    op = SM.from_grease_pencil(bpy.data.objects["heart Ink"])
-    _, radius = mod(ext, "pipeline").bounds(mod(ext, "model").Evaluator(mod(ext, "model").load(example("heart"))))
-    assert SM.differences(cli, op, dist=1e-6 * radius, count=0, rel=1e-5, q=1.0) == []
 
 
 def test_bad_lines_are_named(ext, example, tmp_path, capsys):
