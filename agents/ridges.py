@@ -69,8 +69,9 @@ def _around(surface, X, g, d):
     """Signed q1 at X, and |q1| there and ``d`` (per point) to either side along q1's
     direction (projected onto the surface), one batch; and that direction."""
     m = len(X)
-    _, u = q1(surface, X, g)
-    c, _, P, _ = surface.probed(X, g, u, d)
+    here = curvature(surface.ev, X, g)
+    u = unit(view_dependent(here, surface.view.towards_eye(X))[1])
+    c, _, P, _ = surface.probed(X, g, u, d, here=here)
     q, _ = view_dependent(c, surface.view.towards_eye(np.concatenate([X, P])))
     a = np.abs(q)
     return q[:m], a[:m], a[m:2 * m], a[2 * m:], u
@@ -211,15 +212,19 @@ class RidgeTraces:
         if not self.starts or len(self.pool) == 0:
             return
         st = self.starts
-        hit = self._traced_near(st.p, st.serial, np.zeros(len(st), np.int64), st.g)
-        st.keep(~hit)
+        # the next starts in the regions, as many as there are idle agents, less those on
+        # a ridge traced already (dropped)
         here = np.flatnonzero(where(st.p))[:len(self.pool)]
-        if len(here) == 0:
-            return
+        hit = here[self._traced_near(st.p[here], st.serial[here], np.zeros(len(here), np.int64), st.g[here])]
         go = np.zeros(len(st), bool)
         go[here] = True
+        go[hit] = False
         serial, way, P, g, t = st.serial[go], st.way[go], st.p[go], st.g[go], st.t[go]
-        st.keep(~go)
+        leave = np.ones(len(st), bool)
+        leave[here] = False
+        st.keep(leave)
+        if not go.any():
+            return
         k = len(serial)
         self.table.append(k, agent=self.pool.take(k), serial=serial, way=way, p=P, g=g, t=t, arc=0)
         self.started += k
@@ -248,7 +253,7 @@ class RidgeTraces:
         first = np.flatnonzero(tk.arc == 0)
         rows = np.concatenate([np.arange(m), np.repeat(first, len(FAN) - 1)])
         n0 = surface.normals(tk.g)
-        D = tk.t.copy()[rows]
+        D = tk.t[rows]
         ang = np.concatenate([np.zeros(m), np.tile(FAN[1:], len(first))])
         side = np.cross(n0[rows], D)
         D = np.cos(ang)[:, None] * D + np.sin(ang)[:, None] * side

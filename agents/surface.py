@@ -219,14 +219,19 @@ class Surface:
         ok = _crossing(kr, here, m, self.scale, ordered=True) & (np.abs(kr[:m]) <= ZERO_MEAN * here[:m])
         return ok & (np.einsum("ij,ij->i", n, v) > 0) & (np.linalg.norm(w, axis=1) >= OBLIQUE)
 
-    def probed(self, X, g, W, d=None):
+    def probed(self, X, g, W, d=None, here=None):
         """The curvature at X and ``d`` (per point; default PROBE of the model's size) to
         either side along the unit directions W (projected onto the surface), one batch:
         the curvature dict over the 3m points, |k1| + |k2| there, and the probes with
-        their gradients."""
+        their gradients. ``here``: the curvature at X, when the caller has it (only the
+        probes' is evaluated)."""
         d = (PROBE * self.scale if d is None else np.asarray(d, float)[:, None]) * W
         P, _, gP = self.project(np.concatenate([X + d, X - d]), anchor=np.concatenate([X, X]))
-        c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([g, gP]))
+        if here is None:
+            c = curvature(self.ev, np.concatenate([X, P]), np.concatenate([g, gP]))
+        else:
+            cP = curvature(self.ev, P, gP)
+            c = {k: np.concatenate([here[k], cP[k]]) for k in cP}
         return c, np.abs(c["k1"]) + np.abs(c["k2"]), P, gP
 
     def ends(self, kinds, A, B, ref, anchor=None):
