@@ -15,6 +15,8 @@ from .columns import Columns
 
 STEP = 0.35                 # an explorer's step, in voxels
 JITTER = 0.6                # its wander's random change of heading
+ROUND = 6                   # steps of a walk planned in one tangent plane, projected together
+JUMP = 3                    # a walk's point further than JUMP steps from the last is on another part
 
 
 class Explorers:
@@ -97,42 +99,73 @@ class Explorers:
         return radial(c, self.surface.view.towards_eye(P))[0]
 
     def step(self):
-        """One step of every explorer; feature points found go to the blackboard.
-        Returns the blackboard rows the new samples touched (a list of arrays)."""
+        """Every explorer's whole walk in one system iteration: the wander (the
+        smarticles' steering behaviour; containment seeks the voxel's centre when
+        further than a voxel from it) is planned ROUND steps at a time in the tangent
+        plane at the walk's last point, and those points of all explorers are projected
+        onto the surface in one batch. Each point is compared with the last one
+        before it that landed on the surface within JUMP steps of it; feature points
+        found go to the blackboard. Returns the blackboard rows the new samples touched
+        (a list of arrays)."""
         ex, surface, bb = self.table, self.surface, self.board
         if not ex:
             return []
-        P, C, N = ex.p, ex.centre, ex.n
-        # wander (the smarticles' steering behaviour); containment: seek the voxel
-        # centre when further than a voxel from it
-        D = st.wander(ex.d, N, self.rng.normal(size=ex.d.shape), jitter=JITTER)
-        away = np.linalg.norm(P - C, axis=1) > bb.h
-        D[away] += 2.0 * np.linalg.norm(C[away] - P[away], axis=1)[:, None] / bb.h * st.seek(P[away], C[away])
-        D = st.unit(st.tangent(D, N))
-        Q, f, g = surface.project(P + STEP * bb.h * D)
+        k, m = len(ex), self.steps
+        Q, f, g = np.empty((m, k, 3)), np.empty((m, k)), np.empty((m, k, 3))
+        x, d, N, C = ex.p, ex.d, ex.n, ex.centre
+        for r in range(0, m, ROUND):
+            X = np.empty((min(ROUND, m - r), k, 3))
+            for i in range(len(X)):
+                D = st.wander(d, N, self.rng.normal(size=d.shape), jitter=JITTER)
+                away = np.linalg.norm(x - C, axis=1) > bb.h
+                D[away] += 2.0 * np.linalg.norm(C[away] - x[away], axis=1)[:, None] / bb.h * st.seek(x[away], C[away])
+                d = st.unit(st.tangent(D, N))
+                x = x + STEP * bb.h * d
+                X[i] = x
+            q, fq, gq = surface.project(X.reshape(-1, 3))
+            Q[r:r + len(X)], f[r:r + len(X)], g[r:r + len(X)] = q.reshape(X.shape), fq.reshape(-1, k), gq.reshape(X.shape)
+            # the next round is planned from this one's last point, in its tangent plane
+            last = np.all(np.isfinite(Q[r + len(X) - 1]), axis=1) & \
+                on_surface(f[r + len(X) - 1], surface.iso, NEAR_SURFACE)
+            x = np.where(last[:, None], Q[r + len(X) - 1], x)
+            N = np.where(last[:, None], surface.normals(np.where(last[:, None], g[r + len(X) - 1], 1.0)), N)
+            d = st.unit(st.tangent(d, N))
+        Q, f, g = Q.reshape(-1, 3), f.ravel(), g.reshape(-1, 3)
+        ok = np.all(np.isfinite(Q), axis=1) & on_surface(f, surface.iso, NEAR_SURFACE)
+        Q, f, g = Q[ok], f[ok], g[ok]
         n = surface.normals(g)
         sil = np.einsum("ij,ij->i", n, surface.view.towards_eye(Q))
         cq = curvature(surface.ev, Q, g)
-        curv = cq["mean"]
-        rows = bb.add_samples(Q, f, g, "path", cq)
-        # identify feature points: this step against the previous one
+        sug = self._radial(cq, Q)
+        rows = bb.add_samples(Q, f, g, "path", cq) if len(Q) else np.zeros(0, np.int64)
+        # each point against the last one before it on the surface (the start, at first)
+        walker = np.tile(np.arange(k), m)[ok]
+        order = np.argsort(walker, kind="stable")           # each walker's points in walk order
+        first = np.r_[True, walker[order][1:] != walker[order][:-1]]
+        prev_p = np.where(first[:, None], ex.p[walker[order]], np.roll(Q[order], 1, axis=0))
+        prev_n = np.where(first[:, None], ex.n[walker[order]], np.roll(n[order], 1, axis=0))
+        prev_sil = np.where(first, ex.s_sil[walker[order]], np.roll(sil[order], 1))
+        prev_curv = np.where(first, ex.s_curv[walker[order]], np.roll(cq["mean"][order], 1))
+        prev_sug = np.where(first, ex.s_sug[walker[order]], np.roll(sug[order], 1))
+        P = Q[order]
+        near = np.linalg.norm(P - prev_p, axis=1) <= JUMP * STEP * bb.h
         found = {}
         if "silhouette" in self.kinds:
-            found["silhouette"] = (ex.s_sil > 0) != (sil > 0)
+            found["silhouette"] = (prev_sil > 0) != (sil[order] > 0)
         if "curvature" in self.kinds:
-            found["curvature"] = np.isfinite(curv) & ((ex.s_curv > 0) != (curv > 0))
-        sug = self._radial(cq, Q)
+            curv = cq["mean"][order]
+            found["curvature"] = np.isfinite(curv) & np.isfinite(prev_curv) & ((prev_curv > 0) != (curv > 0))
         if "suggestive" in self.kinds:              # on the side facing the eye
-            found["suggestive"] = np.isfinite(sug) & ((ex.s_sug > 0) != (sug > 0)) & (sil > 0) & (ex.s_sil > 0)
+            s = sug[order]
+            found["suggestive"] = np.isfinite(s) & np.isfinite(prev_sug) & ((prev_sug > 0) != (s > 0)) & \
+                (sil[order] > 0) & (prev_sil > 0)
         if "crease" in self.kinds:
-            found["crease"] = np.arccos(np.clip(np.einsum("ij,ij->i", N, n), -1, 1)) > self.crease_angle
+            found["crease"] = np.arccos(np.clip(np.einsum("ij,ij->i", prev_n, n[order]), -1, 1)) > self.crease_angle
         for kind in FEATURE_KINDS:
-            if kind in found and found[kind].any():
-                a, b = P[found[kind]], Q[found[kind]]
+            if kind in found and (found[kind] & near).any():
+                hit = found[kind] & near
+                a, b = prev_p[hit], P[hit]
                 bb.add_features(0.5 * (a + b), a, b, kind)
-        ex.p, ex.d, ex.n, ex.s_sil, ex.s_curv, ex.s_sug = Q, D, n, sil, curv, sug
-        ex.steps += 1
-        done = ex.steps >= self.steps
-        self.pool.give_back(ex.agent[done].tolist())
-        ex.keep(~done)
+        self.pool.give_back(ex.agent.tolist())
+        ex.keep(np.zeros(k, bool))
         return [rows]

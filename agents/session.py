@@ -59,7 +59,7 @@ class Settings:
     crease_angle: float = float(np.radians(35.0))
     kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines, "suggestive" for
                                                  # suggestive contours, "ridges" for apparent ridges
-    explore_steps: int = 16
+    explore_steps: int = 24
     explore_detail: bool = True        # after the edge seeds, explore voxels flagged for detail
     subdivide: int = 6                 # fine cells per side of the subdivided voxels (0: none)
     max_outline_steps: int = 20000
@@ -229,12 +229,11 @@ class Session:
         self._priorities()[around] = manager.priorities(self.bb, around, self.settings.lod)["priority"]
 
     def _queue_detail(self):
-        """Once the polygon edges' seeds are taken and few traces are left: send
-        explorers to the sheets the polygonisation missed and to the walls of subtracted
-        parts (:meth:`_explorer_starts`), seed the silhouettes beside traced ones
-        (agents/beside.py), and explore the voxels the blackboard flags (corner normals
-        that disagree) that no traced outline passes through, in order of priority, for
-        outlines smaller than a grid cell."""
+        """Once the polygon edges' seeds are taken and few traces are left: send explorers
+        to the sheets the polygonisation missed and the walls of subtracted parts
+        (:meth:`_explorer_starts`), seed the silhouettes beside the traced fragments
+        (agents/beside.py), and explore the flagged voxels (corner normals that disagree)
+        no traced outline passes through, by priority, for outlines smaller than a cell."""
         outlines = [r for k, r in self.requests if k == "OUTLINES"]
         starts = self._explorer_starts() if outlines else None
         if starts is not None:
@@ -248,8 +247,9 @@ class Session:
         for region in outlines:
             self.explorers.enqueue_starts(starts, region)
         if "silhouette" in self.settings.kinds:
-            seeds_beside_silhouettes(self.outlines(), self.surface, self.bb, self.traces.traced, self.step_len,
-                                     self.settings.crease_angle, lambda P: self._in_regions(P) & self._changed_here(P))
+            seeds_beside_silhouettes(self.traces.done + self.traces.active_outlines(), self.surface, self.bb,
+                                     self.traces.traced, self.step_len, self.settings.crease_angle,
+                                     lambda P: self._in_regions(P) & self._changed_here(P))
         if len(self._detail) == 0:
             return
         rows = self._detail[self._in_regions(self._voxel_centres(self._detail))]
