@@ -8,7 +8,6 @@ comparing each step with the previous one). A sign change where the normal jumps
 crease) counts only where n.v is small on one side of it: a silhouette is near."""
 import numpy as np
 
-from ..blackboard.board import KIND_ID
 from ..blackboard.keys import unique_rows
 from .steering import unit
 
@@ -56,8 +55,7 @@ def seeds_beside_silhouettes(outlines, surface, board, traced, step_len, crease_
     a, b = Q[rows, j - 1], Q[rows, j]
     pos = 0.5 * (a + b)
     # a bracket across an outline already traced (the flip is that outline) is no news
-    known = traced.loop(np.full(len(pos), KIND_ID["silhouette"]), pos, 0.5 * step_len)
-    new = np.array([known.hit(q) is None for q in range(len(pos))], bool)
+    new = traced.unknown("silhouette", pos, 0.5 * step_len)
     a, b, pos = a[new], b[new], pos[new]
     _, first = unique_rows(np.floor(pos / (0.5 * h)).astype(np.int64), return_index=True)
     first = np.sort(first)

@@ -21,7 +21,10 @@ takes as it is where the model is the same. The next session (:func:`carried`):
 - looks for the features smaller than a cell (the detail phase) only where the field
   changed (the last frame's small outlines elsewhere are among its seeds), but in every
   REFRESH-th frame everywhere: a small silhouette that a moving eye brings into view is
-  found within REFRESH frames.
+  found within REFRESH frames;
+- with the same model, checks the last frames' explorers' walks (:class:`Walks`) for
+  silhouettes seen from this eye instead, and explores only the voxels no walk explored:
+  a small silhouette a moving eye brings into view where a walk went is found at once.
 """
 import copy
 from dataclasses import dataclass, field
@@ -56,6 +59,34 @@ class Init:
 
 
 @dataclass(frozen=True)
+class Walks:
+    """The explorers' walks over one model, from every frame that saw it (the pairs of
+    points each walk compared, with their normals) and the voxel rows they explored. A
+    silhouette smaller than a cell that a moved eye brings into view where a walk went
+    flips the sign of n.v between a pair's points: found again with no field evaluation,
+    and those voxels need no explorer again."""
+    A: np.ndarray
+    nA: np.ndarray
+    B: np.ndarray
+    nB: np.ndarray
+    rows: frozenset = frozenset()
+
+    def joined(self, pairs, rows):
+        """These walks and a session's (pairs: A, nA, B, nB; rows: the voxels explored)."""
+        return Walks(*(np.concatenate([a, b]) for a, b in zip((self.A, self.nA, self.B, self.nB), pairs)),
+                     self.rows | frozenset(rows))
+
+    def silhouette_brackets(self, view):
+        """The pairs (a, b) between whose points n.v changes sign, seen from ``view``."""
+        flip = (np.einsum("ij,ij->i", self.nA, view.towards_eye(self.A)) > 0) != \
+            (np.einsum("ij,ij->i", self.nB, view.towards_eye(self.B)) > 0)
+        return self.A[flip], self.B[flip]
+
+
+NO_WALKS = Walks(*(np.zeros((0, 3)) for _ in range(4)))
+
+
+@dataclass(frozen=True)
 class Continuation:
     """What a finished session leaves the next frame's."""
     model: object                  # model.nodes.Model
@@ -65,6 +96,7 @@ class Continuation:
     init: Init = None
     age: int = 0                   # frames since a session looked for small features everywhere
     complete: bool = True          # the session ran to its end (not to a time or iteration budget)
+    walks: Walks = None            # its explorers' walks and the last frames' with the same model (with init)
 
 
 @dataclass
@@ -78,6 +110,7 @@ class Carried:
     changed: object = EVERYWHERE
     age: int = 0                   # frames since the detail phase last looked everywhere (0: this one does)
     same_eye: bool = False         # the eye is where the last frame's was
+    walks: Walks = None            # the explorers' walks of the last frames with this model (with init)
     complete: bool = False         # the last frame's session ran to its end: its creases and curvature-sign
                                    # lines where the field is the same are all there are
 
@@ -93,7 +126,7 @@ def carried(previous, model, view, settings):
         previous.init.resolution == settings.resolution else None
     age = previous.age + 1
     out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age, complete=previous.complete,
-                  same_eye=same_eye)
+                  same_eye=same_eye, walks=previous.walks if init is not None else None)
     if region is EVERYWHERE:
         return out                      # as from scratch
     for o in previous.outlines:

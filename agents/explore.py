@@ -40,6 +40,7 @@ class Explorers:
         self.explored = set()
         self.starts = {}
         self.started = 0            # explorers sent out so far
+        self.walked = []            # (A, nA, B, nB): the pairs of walk points each compared, and their normals
 
     def __len__(self):
         """Exploring agents (not counting the queue)."""
@@ -161,6 +162,7 @@ class Explorers:
                 (sil[order] > 0) & (prev_sil > 0)
         if "crease" in self.kinds:
             found["crease"] = np.arccos(np.clip(np.einsum("ij,ij->i", prev_n, n[order]), -1, 1)) > self.crease_angle
+        self.walked.append((prev_p[near], prev_n[near], P[near], n[order][near]))
         for kind in FEATURE_KINDS:
             if kind in found and (found[kind] & near).any():
                 hit = found[kind] & near
@@ -169,3 +171,9 @@ class Explorers:
         self.pool.give_back(ex.agent.tolist())
         ex.keep(np.zeros(k, bool))
         return [rows]
+
+    def walks(self):
+        """The pairs of points the walks compared (A, nA, B, nB), all explorers'."""
+        if not self.walked:
+            return tuple(np.zeros((0, 3)) for _ in range(4))
+        return tuple(np.concatenate(a) for a in zip(*self.walked))

@@ -21,68 +21,32 @@ blackboard and the surface queries. What it hands out is a :class:`Sampling` val
 """
 import copy
 import time
-from dataclasses import dataclass
 
 import numpy as np
 from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
-from ..blackboard.board import FEATURE_KINDS, KIND_ID, VIEW_DEPENDENT, from_mesh
+from ..blackboard.board import KIND_ID, VIEW_DEPENDENT, from_mesh
 from ..blackboard.edges import process_edges
+from ..blackboard.keys import unique_rows
 from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature, radial
-from ..model.tolerances import OUTLINE
 from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
 from .changes import EVERYWHERE
-from .continuation import Continuation, Init, carried, seed_brackets
+from .continuation import NO_WALKS, Continuation, Init, carried, seed_brackets
 from .explore import Explorers
 from .follow import follow
 from .outline import stitch_scales, total_length
 from .pool import AgentPool
 from .ridges import RidgeTraces
 from .sampling import Sampling
+from .settings import Settings  # noqa: F401  (agents.session.Settings)
 from .surface import Surface
 from .traces import Traces
 
 REQUESTS = ("OUTLINES", "FIND_FEATURES")      # the requests a sampling session serves (MASSRIS Table 1)
 DETAIL_AFTER = 4            # traces left when the detail phase may start
-
-
-@dataclass
-class Settings:
-    resolution: int = 20               # about resolution^3 cubic grid cells over the model (8..128)
-    agents: int = 10000                # agents stepped together; more agents, fewer (larger) iterations
-    lod: float = 0.5                   # user level of detail, 0..1
-    step: float = 0.3                  # trace step, in voxel sizes
-    tolerance: float = OUTLINE         # outline location, as a fraction of the model's size
-    crease_angle: float = float(np.radians(35.0))
-    kinds: tuple = ("silhouette", "crease")      # add "curvature" for curvature-sign lines, "suggestive" for
-                                                 # suggestive contours, "ridges" for apparent ridges
-    explore_steps: int = 24
-    explore_detail: bool = True        # after the edge seeds, explore voxels flagged for detail
-    subdivide: int = 6                 # fine cells per side of the subdivided voxels (0: none)
-    max_outline_steps: int = 20000
-    seed: int = 0
-
-    def check(self):
-        if not (isinstance(self.resolution, (int, np.integer)) and 8 <= self.resolution <= 128):
-            raise ValueError(f"resolution must be a whole number from 8 to 128, got {self.resolution!r}")
-        if not (isinstance(self.agents, (int, np.integer)) and 1 <= self.agents <= 10000):
-            raise ValueError(f"agents must be a whole number from 1 to 10000, got {self.agents!r}")
-        for name, lo, hi in (("lod", 0, 1), ("step", 0.01, 2), ("tolerance", 1e-12, 1e-2),
-                             ("crease_angle", 0.01, 3.1)):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and np.isfinite(v) and lo <= v <= hi):
-                raise ValueError(f"{name} must be a number from {lo} to {hi}, got {v!r}")
-        if isinstance(self.seed, bool) or not (isinstance(self.seed, (int, np.integer)) and 0 <= self.seed < 2**63):
-            raise ValueError(f"seed must be a whole number from 0, got {self.seed!r}")
-        if not (isinstance(self.subdivide, (int, np.integer)) and (self.subdivide == 0 or 2 <= self.subdivide <= 16)):
-            raise ValueError(f"subdivide must be 0 or a whole number from 2 to 16, got {self.subdivide!r}")
-        bad = [k for k in self.kinds if k not in FEATURE_KINDS]
-        if bad or not self.kinds:
-            raise ValueError(f"lines (the kinds of feature outline) must be one or more of {', '.join(FEATURE_KINDS)}, "
-                             f"got {', '.join(map(str, self.kinds)) or 'none'}")
 
 
 class Session:
@@ -97,6 +61,7 @@ class Session:
         self.surface = Surface(self.ev, view)
         t0 = time.perf_counter()
         self.carried = carried(previous, self.ev.model, view.key(), s)
+        self._walks = self.carried.walks          # the last frames' explorers' walks (the same model)
         init = self.carried.init
         if init is not None:                     # the same model: the last frame's polygonisation
             self.mesh, self.bb, curv = init.mesh, init.board_copy(), init.curvature
@@ -146,11 +111,18 @@ class Session:
         self.pool = AgentPool(s.agents)
         sites = self.ev.sites.count if sheets.usable(self.surface) else 0
         self.traces = Traces(self.surface, self.bb, self.pool, s, self.tol, self.step_len, sites)
-        self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), s.kinds, s.crease_angle,
+        # the same model from a moved eye after a complete frame: only the lines that depend on the eye are new
+        kinds = [k for k in s.kinds if k in VIEW_DEPENDENT] if self._walks is not None and self.carried.complete \
+            else s.kinds
+        self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), kinds, s.crease_angle,
                                    s.explore_steps)
         # the last frame's outlines where nothing changed, and its silhouettes followed
         self.traces.add_traced(self.carried.kept + followed)
         self.traces.extend(followed, len(self.carried.kept))   # ... traced on from the followed ones' ends
+        if self._walks is not None:
+            self.explorers.explored.update(self._walks.rows)
+            if "silhouette" in s.kinds:          # the small silhouettes they cross, seen from here
+                self._seed_walks(lost)
         # apparent ridges: their own agents, seeded from the vertices (where the field changed,
         # when the eye stayed and the last frame's session ran to its end: elsewhere its
         # ridges are kept) and from the last frame's when the eye moved
@@ -163,9 +135,25 @@ class Session:
                                   V, gV, moved=[o for o in moved if o.kind == "ridges"])
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
-        self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age else None
+        self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age and self._walks is None else None
         self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
         self._stitched = None       # (state, outlines) of the last stitching
+
+    def _seed_walks(self, lost):
+        """Seeds where the last frames' walks cross a silhouette seen from here, away from
+        the silhouettes kept or followed and from the voxels of the ``lost`` parts (their
+        own seeds find them)."""
+        a, b = self._walks.silhouette_brackets(self.view)
+        mid = 0.5 * (a + b)
+        ok = self.traces.traced.unknown("silhouette", mid, 0.5 * self.step_len)
+        if lost and ok.any():
+            near = self.bb.voxel_rows(self.bb.voxel_of(np.concatenate([o.points for o in lost])), create=False)
+            nb = self.bb.neighbours(np.unique(near[near >= 0]))
+            ok &= ~np.isin(self.bb.voxel_rows(self.bb.voxel_of(mid), create=False), nb[nb >= 0])
+        a, b, mid = a[ok], b[ok], mid[ok]
+        _, first = unique_rows(np.floor(mid / (0.5 * self.h)).astype(np.int64), return_index=True)  # one a half voxel
+        first = np.sort(first)
+        self.bb.add_features(mid[first], a[first], b[first], "silhouette")
 
     def _voxel_centres(self, rows):
         return self.bb.lo + (self.bb.vox["ijk"][rows] + 0.5) * self.h
@@ -174,7 +162,7 @@ class Session:
         """Which points lie where the field changed since the last frame (all without one,
         or when this frame's detail phase looks everywhere: agents.continuation)."""
         changed = self.carried.changed
-        if changed is EVERYWHERE or self.carried.age == 0:
+        if changed is EVERYWHERE or self.carried.age == 0 or self._walks is not None:
             return np.ones(len(P), bool)
         if changed is None:
             return np.zeros(len(P), bool)
@@ -182,8 +170,12 @@ class Session:
 
     def continuation(self):
         """What this session leaves the next frame's (agents.continuation)."""
+        walks = None
+        if self._init is not None:            # the explored rows of the model's own board (the same in every frame)
+            rows = [r for r in self.explorers.explored if r < self._init.board.vox.n]
+            walks = (self._walks or NO_WALKS).joined(self.explorers.walks(), rows)
         return Continuation(self.ev.model, self.view.key(), self.settings, tuple(self.outlines()), self._init,
-                            self.carried.age, self.done)
+                            self.carried.age, self.done, walks)
 
     def _curvature(self, P, g):
         return curvature(self.ev, P, g)
@@ -235,9 +227,9 @@ class Session:
         (agents/beside.py), and explore the flagged voxels (corner normals that disagree)
         no traced outline passes through, by priority, for outlines smaller than a cell."""
         outlines = [r for k, r in self.requests if k == "OUTLINES"]
-        starts = self._explorer_starts() if outlines else None
-        if starts is not None:
-            starts = starts[self._changed_here(starts)]
+        # the missed sheets and subtracted walls: explored in the frames the walks come from
+        starts = self._explorer_starts() if outlines and self._walks is None else np.zeros((0, 3))
+        starts = starts[self._changed_here(starts)]
         self._detail = detail.flagged_voxels(self.bb, self.surface, self.settings)
         self._detail = self._detail[self._changed_here(self._voxel_centres(self._detail))]
         if not outlines:
@@ -314,6 +306,8 @@ class Session:
         """One system iteration; returns False when there was nothing left to do."""
         if self.done:
             return False
+        if self._walks is not None and self._detail is None and self.settings.explore_detail and self.requests:
+            self._queue_detail()      # going on with the same model: a small detail phase, started at once
         self._assign()
         touched = self.traces.step() + self.explorers.step()
         self.ridges.step()

@@ -218,6 +218,11 @@ class TracedPoints:
         return Loops(self, kinds, np.asarray(P, float).reshape(-1, 3), np.broadcast_to(radius, (m,)), own, arc, n,
                      new, upto)
 
+    def unknown(self, kind, P, radius):
+        """Which points P (k, 3) have no traced point of this kind within radius."""
+        known = self.loop(np.full(len(P), KIND_ID[kind]), P, radius)
+        return np.array([known.hit(q) is None for q in range(len(P))], bool)
+
     def near(self, kind, p, radius, own, arc=None, n=None):
         """A traced point of this kind within radius of p, as (outline id, step index),
         or None. Points of the outline ``own`` count only given p's step index ``arc``

@@ -53,16 +53,18 @@ def covered(a, b, tol):
 
 
 def test_every_few_frames_the_detail_phase_looks_everywhere():
-    """Going on from the last frame with the eye moving, the frames' detail phases look
-    only where the field changed, but every REFRESH-th frame's everywhere."""
+    """Going on from the last frame while a part moves, the frames' detail phases look
+    only where the field changed, but every REFRESH-th frame's everywhere (with the same
+    model the last frames' walks take their place: test_walks)."""
     from blobtree_ink.agents import continuation as CT
-    ev = M.Evaluator(pair(0.8))
-    prev, ages = session(ev, EYE).continuation(), []
+    prev, ages, afresh = session(pair(0.8), EYE).continuation(), [], []
     for k in range(1, CT.REFRESH + 2):
-        s = session(ev, turned(EYE, 0.01 * k), prev)
+        s = session(pair(0.8 + 0.002 * k), turned(EYE, 0.01 * k), prev)
         ages.append(s.carried.age)
+        afresh.append(s._changed_here(np.array([[-1.0, 0, 0]]))[0])       # the far side of the fixed sphere
         prev = s.continuation()
     assert ages == list(range(1, CT.REFRESH)) + [0, 1]
+    assert afresh == [False] * (CT.REFRESH - 1) + [True, False]
 
 
 def test_what_changed_between_two_models():
