@@ -10,9 +10,8 @@ whose ends meet is closed.
 """
 import numpy as np
 
+from ..blackboard.board import pairs_within
 from ..blackboard.keys import unique_rows
-
-_OFFSETS = [(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)]
 
 
 def stitch(outlines, link, make):
@@ -23,15 +22,14 @@ def stitch(outlines, link, make):
         P = np.concatenate([o.points for o in mine])
         N = np.concatenate([o.normals for o in mine])
         P, N = _merge_close(P, N, link / 8.0)
-        grid = _Grid(P, link)
-        used = np.zeros(len(P), bool)
+        near = _Near(P, link)
+        used = [False] * len(P)
         for start in range(len(P)):
             if used[start]:
                 continue
             used[start] = True
-            grid.remove(start)
-            fwd = _walk(P, grid, used, start, None, link)
-            bwd = _walk(P, grid, used, start, fwd[0] if fwd else None, link, away=True)
+            fwd = near.walk(used, start, None)
+            bwd = near.walk(used, start, fwd[0] if fwd else None)
             idx = bwd[::-1] + [start] + fwd
             if len(idx) < 2:
                 continue
@@ -48,48 +46,46 @@ def _merge_close(P, N, r):
     return P[keep], N[keep]
 
 
-class _Grid:
-    def __init__(self, P, cell):
-        self.cell = cell
-        self.cells = {}
-        keys = np.floor(P / cell).astype(np.int64)
-        self.keys = [tuple(k) for k in keys.tolist()]
-        for i, k in enumerate(self.keys):
-            self.cells.setdefault(k, set()).add(i)
+class _Near:
+    """Each point's neighbours closer than ``link``, nearest first (found in one batch)."""
 
-    def remove(self, i):
-        self.cells[self.keys[i]].discard(i)
+    def __init__(self, P, link):
+        i, j = pairs_within(P, P, link)
+        other = i != j
+        i, j = i[other], j[other]
+        d2 = ((P[i] - P[j]) ** 2).sum(axis=1)
+        order = np.lexsort((j, d2, i))
+        self.nbrs = j[order].tolist()
+        self.first = np.searchsorted(i[order], np.arange(len(P) + 1)).tolist()
+        self.P = P.tolist()
 
-    def near(self, i):
-        x, y, z = self.keys[i]
-        out = []
-        for dx, dy, dz in _OFFSETS:
-            s = self.cells.get((x + dx, y + dy, z + dz))
-            if s:
-                out.extend(s)
-        return out
-
-
-def _walk(P, grid, used, start, neighbour, link, away=False):
-    """Extend a chain from ``start``; with ``away``, leave in the direction opposite to
-    ``neighbour`` (the chain's other side)."""
-    chain = []
-    cur = start
-    prev = neighbour if away else None
-    while True:
-        cand = grid.near(cur)
-        if not cand:
-            break
-        cand = np.array(cand)
-        d = np.linalg.norm(P[cand] - P[cur], axis=1)
-        ok = d < link
-        if prev is not None:
-            ok &= (P[cand] - P[cur]) @ (P[cur] - P[prev]) > 0
-        if not ok.any():
-            break
-        j = int(cand[ok][np.argmin(d[ok])])
-        used[j] = True
-        grid.remove(j)
-        chain.append(j)
-        prev, cur = cur, j
-    return chain
+    def walk(self, used, start, neighbour):
+        """Extend a chain from ``start`` (``used`` points are not taken; the points taken
+        become used): each time to the nearest unused neighbour, ahead of the way the
+        chain came (given ``neighbour``, the chain's other side: away from it)."""
+        P, nbrs, first = self.P, self.nbrs, self.first
+        chain = []
+        cur, prev = start, neighbour
+        while True:
+            x, y, z = P[cur]
+            nxt = None
+            if prev is None:
+                for k in range(first[cur], first[cur + 1]):
+                    if not used[nbrs[k]]:
+                        nxt = nbrs[k]
+                        break
+            else:
+                px, py, pz = P[prev]
+                dx, dy, dz = x - px, y - py, z - pz
+                for k in range(first[cur], first[cur + 1]):
+                    j = nbrs[k]
+                    if not used[j]:
+                        q = P[j]
+                        if (q[0] - x) * dx + (q[1] - y) * dy + (q[2] - z) * dz > 0:
+                            nxt = j
+                            break
+            if nxt is None:
+                return chain
+            used[nxt] = True
+            chain.append(nxt)
+            prev, cur = cur, nxt
