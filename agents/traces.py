@@ -20,7 +20,7 @@ from ..blackboard.board import FEATURE_KINDS, KIND_ID
 from . import crease_seeds
 from .columns import Columns, Paths
 from .outline import Outline
-from .tracer import refine_seeds, trace_step
+from .tracer import Step, refine_seeds, trace_step
 from .traced import NO_ARC, SELF_GAP, TracedPoints, consume_crossed
 
 SEED_PAUSE = 3          # bisection iterations a seed's refinement takes per system iteration (4: the train
@@ -28,6 +28,8 @@ SEED_PAUSE = 3          # bisection iterations a seed's refinement takes per sys
 SEED_ROUNDS = 6         # ... in at most this many system iterations
 NARROWED = 0.9          # ... each narrowing its bracket below this fraction of its width
 SHORTEST = 1.0 / 16     # a failed step is retried halved down to this fraction of the full step
+FEW = 48                # tracing tasks up to which a silhouette step tries all its halvings in one batch
+                        # (a batch that small costs what a call costs, whatever its size)
 CLOSE = 0.75            # a trace is back at its seed within this many full steps of it
 
 _V = ((3,), float)
@@ -217,8 +219,7 @@ class Traces:
         m = len(tk)
         kinds, h, base = tk.kind, tk.h, tk.base
         retry = h > base * SHORTEST            # a failed step may still be halved
-        st = trace_step(self.surface, kinds, tk.p, tk.t, tk.ref, h, self.tol, settings.crease_angle, tk.last_n,
-                        tk.pins, (tk.team_a, tk.team_b), retry)
+        st, retry = self._trace_step(retry)
         X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
         side_seeds = self._off_creases(X, st, ok)
         rows = self.board.add_samples(X, st.f, st.g, "path")
@@ -285,6 +286,37 @@ class Traces:
         if len(a):
             self.board.add_features(0.5 * (a + b), a, b, "silhouette", cell)
         return [rows]
+
+    def _trace_step(self, retry):
+        """Every task's trace step (tracer.trace_step), and which failed ones may still
+        be retried with a halved step. With at most FEW tasks, a silhouette task tries its
+        step and every halving of it down to SHORTEST in one batch and goes on with the
+        longest that holds (its step is that one's): the points a step and its retries
+        in later iterations would find, without an iteration per retry (a trace crawling
+        round a tight turn, or ending at a crease, takes one iteration a step, not five)."""
+        tk, settings = self.table, self.settings
+        m = len(tk)
+        tries = np.zeros(m, np.int64)
+        if m <= FEW:
+            sil = tk.kind == KIND_ID["silhouette"]
+            # as many as a step halved while it is longer than SHORTEST of the full step
+            tries[sil] = np.maximum(np.ceil(np.log2(tk.h[sil] / (tk.base[sil] * SHORTEST)) - 1e-9), 0)
+        if not tries.any():
+            return trace_step(self.surface, tk.kind, tk.p, tk.t, tk.ref, tk.h, self.tol, settings.crease_angle,
+                              tk.last_n, tk.pins, (tk.team_a, tk.team_b), retry), retry
+        rows = np.repeat(np.arange(m), tries + 1)                    # a task's rows: its step, then halvings
+        first = np.cumsum(tries + 1) - (tries + 1)
+        halved = np.arange(len(rows)) - np.repeat(first, tries + 1)
+        h = tk.h[rows] * 0.5 ** halved
+        st = trace_step(self.surface, tk.kind[rows], tk.p[rows], tk.t[rows], tk.ref[rows], h, self.tol,
+                        settings.crease_angle, tk.last_n[rows], tk.pins[rows], (tk.team_a[rows], tk.team_b[rows]),
+                        retry[rows] & (halved < np.repeat(tries, tries + 1)))
+        # each task's first try that holds, else its last
+        ok_at = np.where(st.ok, halved, np.iinfo(np.int64).max)
+        best = np.minimum.reduceat(ok_at, first)
+        pick = first + np.where(best <= tries, best, tries)
+        tk.h[:] = h[pick]
+        return Step(*(a[pick] for a in st)), retry & (tries == 0)
 
     def _off_creases(self, X, st, ok):
         """Seed brackets (a, b, cell) of silhouettes that start on the creases the crease

@@ -1,0 +1,96 @@
+"""A silhouette trace step that fails is retried with its step halved (agents.traces):
+with at most FEW tasks tracing, every halving is tried in the same batch and the task
+goes on with the longest that holds, where it would get to after retrying in later
+iterations; with more, one halving an iteration."""
+import numpy as np
+
+from blobtree_ink.agents import Session, Settings
+from blobtree_ink.agents import traces as TS
+from blobtree_ink.agents.tracer import trace_step
+from blobtree_ink.blackboard.board import KIND_ID
+from blobtree_ink.blackboard.view import View
+
+SIL = KIND_ID["silhouette"]
+
+
+def alone(s, r, h):
+    """Task r's trace step with step h, computed for it alone."""
+    tk = s.traces.table
+    row = slice(r, r + 1)
+    return trace_step(s.surface, tk.kind[row], tk.p[row], tk.t[row], tk.ref[row], np.array([h]), s.tol,
+                      s.settings.crease_angle, tk.last_n[row], tk.pins[row], (tk.team_a[row], tk.team_b[row]),
+                      np.array([h > tk.base[r] * TS.SHORTEST]))
+
+
+def halvings(s, r):
+    """The steps task r would try after its step fails: halved while longer than
+    SHORTEST of its full step, then once more."""
+    tk = s.traces.table
+    h, out = tk.h[r], [tk.h[r]]
+    while h > tk.base[r] * TS.SHORTEST:
+        h *= 0.5
+        out.append(h)
+    return out
+
+
+def a_failing_task(load_example, holds):
+    """A heart session stopped where a silhouette task fails its step and (``holds``) one
+    of its halvings holds, or none does: the session, the task, and the step that holds
+    (None)."""
+    s = Session(load_example("heart"), View(eye=np.array([4.0, -6.0, 3.0])), Settings(resolution=20))
+    s.request("OUTLINES")
+    while not s.done:
+        tk = s.traces.table
+        for r in np.flatnonzero(tk.kind[:len(tk)] == SIL):
+            steps = halvings(s, r)
+            if len(steps) < 2 or alone(s, r, steps[0]).ok[0]:
+                continue
+            good = [h for h in steps[1:] if alone(s, r, h).ok[0]]
+            if bool(good) == holds:
+                return s, r, (good[0] if good else None)
+        s.step()
+    raise AssertionError("no such task in the whole session")
+
+
+def only(s, r):
+    """Task r the session's only one (at most FEW)."""
+    keep = np.zeros(len(s.traces.table), bool)
+    keep[r] = True
+    s.traces.table.keep(keep)
+
+
+def test_a_few_tasks_try_every_halving_of_a_failed_step_at_once(load_example):
+    s, r, h = a_failing_task(load_example, holds=True)
+    want = alone(s, r, h)
+    only(s, r)
+    tk = s.traces.table
+    st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
+    assert st.ok[0] and tk.h[0] == h and not retry[0]
+    np.testing.assert_array_equal(st.X, want.X)
+    np.testing.assert_array_equal(st.n, want.n)
+    # the step that holds is the point the task keeps, and its step grows from there
+    before = s.traces.paths.of(tk.serial)[0][0]
+    s.traces.step()
+    after = s.traces.paths.of(tk.serial)[0][0] if len(tk) else None
+    if after is not None:
+        assert len(after) == len(before) + 1 and tk.h[0] == min(tk.base[0], 1.5 * h)
+
+
+def test_a_task_none_of_whose_halvings_holds_ends_at_once(load_example):
+    s, r, _ = a_failing_task(load_example, holds=False)
+    only(s, r)
+    tk = s.traces.table
+    st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
+    assert not st.ok[0] and not retry[0]
+    s.traces.step()
+    assert len(s.traces.table) == 0                       # lost: not retried in the next iteration
+
+
+def test_many_tasks_halve_one_step_an_iteration(load_example, monkeypatch):
+    monkeypatch.setattr(TS, "FEW", 0)
+    s, r, h = a_failing_task(load_example, holds=True)
+    only(s, r)
+    tk = s.traces.table
+    first = tk.h[0]
+    st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
+    assert not st.ok[0] and retry[0] and tk.h[0] == first
