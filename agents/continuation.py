@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..blackboard.board import VIEW_DEPENDENT
+from ..blackboard.keys import unique_rows
 from .changes import EVERYWHERE, changed
 from .outline import Outline
 
@@ -82,6 +83,22 @@ class Walks:
             (np.einsum("ij,ij->i", self.nB, view.towards_eye(self.B)) > 0)
         return self.A[flip], self.B[flip]
 
+    def seeds(self, view, board, lost):
+        """Silhouette seeds on ``board`` (a session's blackboard) where these walks cross a
+        silhouette seen from ``view``, away from the voxels of the ``lost`` outlines
+        (their own seeds find them): their ids. Before the outlines a session keeps or
+        follows are added, so that those crossing them are taken as theirs
+        (agents.traced.consume_crossed), as any seed is; :func:`thin_walk_seeds` then
+        thins the rest."""
+        a, b = self.silhouette_brackets(view)
+        mid = 0.5 * (a + b)
+        if lost and len(mid):
+            near = board.voxel_rows(board.voxel_of(np.concatenate([o.points for o in lost])), create=False)
+            nb = board.neighbours(np.unique(near[near >= 0]))
+            ok = ~np.isin(board.voxel_rows(board.voxel_of(mid), create=False), nb[nb >= 0])
+            a, b, mid = a[ok], b[ok], mid[ok]
+        return board.add_features(mid, a, b, "silhouette")
+
 
 NO_WALKS = Walks(*(np.zeros((0, 3)) for _ in range(4)))
 
@@ -102,9 +119,12 @@ class Continuation:
 @dataclass
 class Carried:
     """What a session takes from the last frame's: its initialisation (or None), the
-    outlines it keeps as traced, those it seeds from, and where the field changed
+    outlines it keeps as traced (``whole``: those kept as they were, which its own
+    outlines include as they are, not stitched again; ``kept``: the parts of the others
+    where the field did not change), those it seeds from, and where the field changed
     (None: nowhere; EVERYWHERE; or agents.changes.Boxes)."""
     init: object = None
+    whole: list = field(default_factory=list)
     kept: list = field(default_factory=list)
     seeds: list = field(default_factory=list)
     changed: object = EVERYWHERE
@@ -134,9 +154,10 @@ def carried(previous, model, view, settings):
         # where the field changed, the agents look afresh (polygon edges, the detail phase);
         # elsewhere what did not move is kept, and the lines a moved eye sees go on from here
         # (the session follows the silhouettes and seeds the rest)
-        kept = out.kept if o.kind not in VIEW_DEPENDENT or same_eye else out.seeds
+        keeps = o.kind not in VIEW_DEPENDENT or same_eye
+        kept = out.kept if keeps else out.seeds
         if not inside.any():
-            kept.append(o)
+            (out.whole if keeps else kept).append(o)
             continue
         for a, b, outside in _runs(~inside, o.closed):
             if outside:
@@ -158,6 +179,19 @@ def _runs(keep, closed):
         first = runs.pop(0)
         runs.append((a, n + first[1], v))
     return [(a, b, v) for a, b, v in runs]
+
+
+def thin_walk_seeds(board, traced, ids, away):
+    """Of the walks' seeds ``ids`` (Walks.seeds) still open, those at least ``away`` from
+    every traced silhouette point (agents.traced.TracedPoints), one a half voxel; the
+    others are taken."""
+    ids = ids[~board.feat["used"][ids]]
+    mid = board.feat["pos"][ids]
+    ok = traced.unknown("silhouette", mid, away)
+    _, first = unique_rows(np.floor(mid[ok] / (0.5 * board.h)).astype(np.int64), return_index=True)
+    keep = np.zeros(len(ids), bool)
+    keep[np.flatnonzero(ok)[first]] = True
+    board.consume(ids[~keep])
 
 
 def seed_brackets(outlines, h):

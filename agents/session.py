@@ -27,14 +27,13 @@ from numpy.random import default_rng    # numpy imports it lazily: here, not in 
 
 from ..blackboard.board import KIND_ID, VIEW_DEPENDENT, from_mesh
 from ..blackboard.edges import process_edges
-from ..blackboard.keys import unique_rows
 from ..blackboard.polygonise import polygonise
 from ..model import Evaluator
 from ..model.curvature import curvature, radial
 from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
 from .changes import EVERYWHERE
-from .continuation import NO_WALKS, Continuation, Init, carried, seed_brackets
+from .continuation import NO_WALKS, Continuation, Init, carried, seed_brackets, thin_walk_seeds
 from .explore import Explorers
 from .follow import follow
 from .outline import stitch_scales, total_length
@@ -75,16 +74,20 @@ class Session:
         self.vertex_curvature = curv
         self.h = self.bb.h
         changed = self.carried.changed         # where the field changed since the last frame (None: nowhere)
+        # seen from where the last frame's eye was, after a frame that ran to its end: every
+        # kind is as its field is, the last frame's outside where it changed
+        self._static = self.carried.same_eye and self.carried.complete and changed is not EVERYWHERE
         kr = radial(curv, view.towards_eye(self.mesh.vertices))[0] if "suggestive" in s.kinds else None
         feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle, radial=kr)
         for kind in s.kinds:
             if kind == "ridges":                 # seeded from the vertices themselves (agents.ridges)
                 continue
             pts, a, b = feats[kind]
-            if kind not in VIEW_DEPENDENT and changed is not EVERYWHERE and self.carried.complete:
-                # creases and curvature-sign lines do not depend on the eye: where the field
-                # is the last frame's, so are they (kept: all of them, its session having run
-                # to its end), and its seeds would find them again
+            if kind not in VIEW_DEPENDENT and changed is not EVERYWHERE and self.carried.complete or self._static:
+                # creases and curvature-sign lines do not depend on the eye (nor, seen from
+                # where the last frame's eye was, do the others): where the field is the last
+                # frame's, so are they (kept: all of them, its session having run to its
+                # end), and its seeds would find them again
                 here = np.zeros(len(pts), bool) if changed is None else changed.contains(pts, pad=self.h)
                 pts, a, b = pts[here], a[here], b[here]
             self.bb.add_features(pts, a, b, kind)
@@ -113,47 +116,38 @@ class Session:
         self.traces = Traces(self.surface, self.bb, self.pool, s, self.tol, self.step_len, sites)
         # the same model from a moved eye after a complete frame: only the lines that depend on the eye are new
         kinds = [k for k in s.kinds if k in VIEW_DEPENDENT] if self._walks is not None and self.carried.complete \
-            else s.kinds
+            and not self._static else s.kinds
         self.explorers = Explorers(self.surface, self.bb, self.pool, default_rng(s.seed), kinds, s.crease_angle,
                                    s.explore_steps)
+        # the small silhouettes the last frames' walks cross, seen from here (those the outlines
+        # kept or followed cross are taken as theirs)
+        walk_seeds = None
+        if self._walks is not None and "silhouette" in s.kinds and not self._static:
+            walk_seeds = self._walks.seeds(self.view, self.bb, lost)
         # the last frame's outlines where nothing changed, and its silhouettes followed
-        self.traces.add_traced(self.carried.kept + followed)
-        self.traces.extend(followed, len(self.carried.kept))   # ... traced on from the followed ones' ends
+        kept = self.carried.whole + self.carried.kept
+        self.traces.add_traced(kept + followed)
+        self.traces.extend(followed, len(kept))   # ... traced on from the followed ones' ends
         if self._walks is not None:
             self.explorers.explored.update(self._walks.rows)
-            if "silhouette" in s.kinds:          # the small silhouettes they cross, seen from here
-                self._seed_walks(lost)
+        if walk_seeds is not None:
+            thin_walk_seeds(self.bb, self.traces.traced, walk_seeds, 0.5 * self.step_len)
         # apparent ridges: their own agents, seeded from the vertices (where the field changed,
         # when the eye stayed and the last frame's session ran to its end: elsewhere its
         # ridges are kept) and from the last frame's when the eye moved
         V, gV = self.mesh.vertices, -curv["normal"] * curv["grad_norm"][:, None]
         here = np.full(len(V), "ridges" in s.kinds)
-        if self.carried.same_eye and self.carried.complete and changed is not EVERYWHERE:
+        if self._static:
             here &= False if changed is None else changed.contains(V, pad=self.h)
         V, gV = V[here], gV[here]
         self.ridges = RidgeTraces(self.surface, self.pool, self.traces.traced, self.step_len, s.max_outline_steps,
                                   V, gV, moved=[o for o in moved if o.kind == "ridges"])
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
-        self._detail = np.zeros(0, np.int64) if changed is None and self.carried.age and self._walks is None else None
+        nothing_new = self._static or (self.carried.age and self._walks is None)
+        self._detail = np.zeros(0, np.int64) if changed is None and nothing_new else None
         self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
         self._stitched = None       # (state, outlines) of the last stitching
-
-    def _seed_walks(self, lost):
-        """Seeds where the last frames' walks cross a silhouette seen from here, away from
-        the silhouettes kept or followed and from the voxels of the ``lost`` parts (their
-        own seeds find them)."""
-        a, b = self._walks.silhouette_brackets(self.view)
-        mid = 0.5 * (a + b)
-        ok = self.traces.traced.unknown("silhouette", mid, 0.5 * self.step_len)
-        if lost and ok.any():
-            near = self.bb.voxel_rows(self.bb.voxel_of(np.concatenate([o.points for o in lost])), create=False)
-            nb = self.bb.neighbours(np.unique(near[near >= 0]))
-            ok &= ~np.isin(self.bb.voxel_rows(self.bb.voxel_of(mid), create=False), nb[nb >= 0])
-        a, b, mid = a[ok], b[ok], mid[ok]
-        _, first = unique_rows(np.floor(mid / (0.5 * self.h)).astype(np.int64), return_index=True)  # one a half voxel
-        first = np.sort(first)
-        self.bb.add_features(mid[first], a[first], b[first], "silhouette")
 
     def _voxel_centres(self, rows):
         return self.bb.lo + (self.bb.vox["ijk"][rows] + 0.5) * self.h
@@ -162,7 +156,7 @@ class Session:
         """Which points lie where the field changed since the last frame (all without one,
         or when this frame's detail phase looks everywhere: agents.continuation)."""
         changed = self.carried.changed
-        if changed is EVERYWHERE or self.carried.age == 0 or self._walks is not None:
+        if changed is EVERYWHERE or not self._static and (self.carried.age == 0 or self._walks is not None):
             return np.ones(len(P), bool)
         if changed is None:
             return np.zeros(len(P), bool)
@@ -359,10 +353,12 @@ class Session:
                  include_active)
         if self._stitched is not None and self._stitched[0] == state:
             return list(self._stitched[1])
-        out = self.traces.done + self.ridges.done
+        whole = self.carried.whole                 # the last frame's, as they were: stitched then
+        mine = {id(o) for o in whole}
+        out = [o for o in self.traces.done if id(o) not in mine] + self.ridges.done
         if include_active:
             out += self.traces.active_outlines() + self.ridges.active_outlines()
-        out = stitch_scales(out)
+        out = whole + stitch_scales(out)
         self._stitched = (state, tuple(out))
         return out
 

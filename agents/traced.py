@@ -265,6 +265,8 @@ def consume_crossed(board, surface, crease_angle, kinds, X, n, W, steps):
         take = cross & (np.linalg.norm(c - Xj, axis=1) < reach)
         ids, j = ids[take], j[take]
         if len(ids) and k != KIND_ID["crease"]:
-            _, g = surface.field_grad(f["a"][ids])
+            # on the sheet of the outline: the normal where the bracket crosses it is the
+            # outline point's (its ends' turn to either side of it, the more so the wider it is)
+            _, g = surface.field_grad(c[take])
             ids = ids[np.einsum("ij,ij->i", surface.normals(g), n[m][j]) > cos]
         board.consume(ids)

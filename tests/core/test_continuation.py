@@ -91,20 +91,20 @@ def test_a_session_keeps_what_did_not_change_and_seeds_what_the_eye_moved():
     assert {o.kind for o in prev.outlines} == {"silhouette", "crease"}
     same = carried(prev, pair(0.8), View(eye=EYE).key(), Settings(resolution=20))
     assert same.changed is None and same.init is prev.init and not same.seeds
-    assert len(same.kept) == len(prev.outlines)
+    assert not same.kept and [id(o) for o in same.whole] == [id(o) for o in prev.outlines]     # as they were
     moved_eye = carried(prev, pair(0.8), View(eye=turned(EYE, 0.05)).key(), Settings(resolution=20))
-    assert {o.kind for o in moved_eye.kept} == {"crease"} and {o.kind for o in moved_eye.seeds} == {"silhouette"}
+    assert {o.kind for o in moved_eye.whole} == {"crease"} and {o.kind for o in moved_eye.seeds} == {"silhouette"}
     part = carried(prev, pair(0.85), View(eye=EYE).key(), Settings(resolution=20))
     assert isinstance(part.changed, Boxes) and part.init is None and not part.seeds
-    kept = np.concatenate([o.points for o in part.kept])
+    kept = np.concatenate([o.points for o in part.kept + part.whole])
     assert not part.changed.contains(kept).any() and len(kept)          # only where nothing changed
     both = carried(prev, pair(0.85), View(eye=turned(EYE, 0.05)).key(), Settings(resolution=20))
     seeded = np.concatenate([o.points for o in both.seeds])             # the silhouettes outside, seen anew
     assert {o.kind for o in both.seeds} == {"silhouette"} and not both.changed.contains(seeded).any()
     shape = carried(prev, pair(0.85, "blend"), View(eye=EYE).key(), Settings(resolution=20))
-    assert shape.changed is EVERYWHERE and not shape.kept and not shape.seeds     # as from scratch
+    assert shape.changed is EVERYWHERE and not shape.kept + shape.whole and not shape.seeds     # as from scratch
     other = carried(prev, pair(0.8), View(eye=EYE).key(), Settings(resolution=20, kinds=("silhouette",)))
-    assert other.changed is EVERYWHERE and not other.kept and not other.seeds and other.init is None
+    assert other.changed is EVERYWHERE and not other.kept + other.whole and not other.seeds and other.init is None
 
 
 def test_nothing_changed_keeps_the_last_frames_outlines_without_tracing():
@@ -212,10 +212,17 @@ def test_a_model_changed_between_frames_is_compiled_again(load_example):
 
 
 def test_the_same_eye_and_model_keep_everything(load_example):
-    model = load_example("pear")
-    first = PL.Illustration(job(model, EYE), remember=True)
-    r1 = first.run()
-    going = PL.Illustration(job(model, EYE), previous=first.continuation(), remember=True)
-    r2 = going.run()
-    assert going.session.traces.serial == 0
-    same_strokes(r1.strokes, r2.strokes)
+    """Seen from where the last frame's eye was, a model that did not change keeps every
+    outline of the last frame, which ran to its end: no seed, no agent, no system
+    iteration (the heart's small silhouettes and walks included)."""
+    for name in ("pear", "heart"):
+        model = load_example(name)
+        first = PL.Illustration(job(model, EYE), remember=True)
+        r1 = first.run()
+        going = PL.Illustration(job(model, EYE), previous=first.continuation(), remember=True)
+        r2 = going.run()
+        s = going.session
+        assert s.carried.walks is not None and s.done
+        assert s.iteration == 0 and s.traces.serial == 0 and s.explorers.started == 0
+        assert len(s.bb.open_features()) == 0
+        same_strokes(r1.strokes, r2.strokes)

@@ -147,7 +147,7 @@ def test_the_next_frame_keeps_them_or_looks_again():
     prev = s.continuation()
     settings = Settings(resolution=20, kinds=KINDS)
     same = carried(prev, s.ev.model, View(eye=np.array([0.0, 6.0, 0.0])).key(), settings)
-    assert [len(o.points) for o in same.kept if o.kind == "ridges"] == [len(X)]
+    assert [len(o.points) for o in same.whole if o.kind == "ridges"] == [len(X)]
     # the same eye: kept as they are, none traced again
     s2, X2 = traced(s.ev.model, np.array([0.0, 6.0, 0.0]), previous=prev)
     assert len(X2) == len(X) and np.array_equal(np.sort(X2, axis=0), np.sort(X, axis=0))
@@ -155,7 +155,7 @@ def test_the_next_frame_keeps_them_or_looks_again():
     # a moved eye: looked for again, the last frame's points among the seeds
     eye = np.array([0.0, 4.0, 3.0])
     moved = carried(prev, s.ev.model, View(eye=eye).key(), settings)
-    assert not any(o.kind == "ridges" for o in moved.kept) and any(o.kind == "ridges" for o in moved.seeds)
+    assert not any(o.kind == "ridges" for o in moved.kept + moved.whole) and any(o.kind == "ridges" for o in moved.seeds)
     s3, X3 = traced(s.ev.model, eye, previous=prev)
     _, fresh = traced(ELLIPSOID, eye)
     assert np.abs(X3[:, 0]).max() < 2e-5 * s3.ev.scale

@@ -107,11 +107,11 @@ def test_a_moved_eye_looks_for_them_again():
     prev = s.continuation()
     settings = Settings(resolution=20, kinds=KINDS)
     same = carried(prev, s.ev.model, View(eye=EYE).key(), settings)
-    assert any(o.kind == "suggestive" for o in same.kept)
+    assert any(o.kind == "suggestive" for o in same.whole)
     c, sn = np.cos(0.05), np.sin(0.05)
     moved = np.array([[c, -sn, 0], [sn, c, 0], [0, 0, 1.0]]) @ EYE
     other = carried(prev, s.ev.model, View(eye=moved).key(), settings)
-    assert not any(o.kind == "suggestive" for o in other.kept)
+    assert not any(o.kind == "suggestive" for o in other.kept + other.whole)
     assert any(o.kind == "suggestive" for o in other.seeds)
     going = Session(s.ev, View(eye=moved), settings, previous=prev)
     going.request("OUTLINES")

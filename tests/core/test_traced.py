@@ -39,7 +39,8 @@ def test_a_trace_stops_on_its_own_far_part_not_its_last_steps(load_example):
 def test_new_trace_points_cover_the_seeds_whose_bracket_they_cross(load_example):
     """An open seed is taken as traced when its bracket crosses the new trace point's
     outline (ends either side of the plane through X across W) within 0.75 voxel of
-    X, and (silhouettes) its normal agrees. A seed of a parallel outline half a voxel
+    X, and (silhouettes) the normal where it crosses agrees (a wide bracket's ends turn
+    further from it on a curved sheet). A seed of a parallel outline half a voxel
     beside it (both ends on one side) stays open, though its position is that close;
     so does a crossing seed further along the outline, and a silhouette seed whose
     normal shows another sheet (the inner and outer silhouettes of a thin lip). Crease
@@ -58,13 +59,17 @@ def test_new_trace_points_cover_the_seeds_whose_bracket_they_cross(load_example)
     parallel = seed("silhouette", X + 0.35 * h * W, X + 0.75 * h * W)
     further = seed("silhouette", X + 0.3 * h * W + 1.2 * h * T, X - 0.3 * h * W + 1.2 * h * T)
     cr_across = seed("crease", X + 0.3 * h * W - 0.2 * h * T, X - 0.3 * h * W - 0.2 * h * T)
+    wide = seed("silhouette", X + 1.2 * h * W - 0.3 * h * T, X - 1.2 * h * W - 0.3 * h * T)
+    cos = np.cos(0.5 * s.settings.crease_angle)
+    _, g = s.surface.field_grad(np.array([X + 1.2 * h * W - 0.3 * h * T, X - 1.2 * h * W - 0.3 * h * T]))
+    assert (s.surface.normals(g) @ [1.0, 0, 0] < cos).all()          # both ends on a turned part of the sheet
     cr_parallel = seed("crease", X - 0.35 * h * W, X - 0.75 * h * W)
     sil, cre = KIND_ID["silhouette"], KIND_ID["crease"]
     consume_crossed(s.bb, s.surface, s.settings.crease_angle, np.array([sil, cre]), np.array([X, X]),
                     np.array([[1.0, 0, 0], [1.0, 0, 0]]),
                        np.array([W, W]), np.full(2, s.step_len))
     used = s.bb.feat["used"]
-    assert used[across] and used[end_on] and used[cr_across]
+    assert used[across] and used[end_on] and used[cr_across] and used[wide]
     assert not used[parallel] and not used[further] and not used[cr_parallel]
     # another sheet: the same crossing bracket, the trace's normal facing the other way
     other = seed("silhouette", X + 0.3 * h * W + 0.2 * h * T, X - 0.3 * h * W + 0.2 * h * T)

@@ -84,3 +84,25 @@ def test_the_pairs_across_a_silhouette_are_the_ones_whose_sign_flips():
     a, b = walks.silhouette_brackets(View(eye=eye))
     assert np.array_equal(a, A) and np.array_equal(b, B)
     assert len(NO_WALKS.joined((A, A, B, B), [3, 4]).A) == 40 and NO_WALKS.joined((A, A, B, B), [3, 4]).rows == {3, 4}
+
+
+def test_the_walks_seeds_on_silhouettes_kept_or_followed_are_theirs(load_example):
+    """From a turned eye, most pairs of the last frame's walks across a silhouette lie
+    across the silhouettes followed from it: taken as theirs, as any seed they cross is
+    (agents.traced.consume_crossed), not refined. Those left open are away from every
+    traced silhouette, one a half voxel."""
+    ev, view = heart_views(load_example)
+    last = run(ev, view(0)).continuation()
+    s = Session(ev, View(eye=view(4)), Settings(), previous=last, remember=True)
+    a, b = last.walks.silhouette_brackets(View(eye=view(4)))
+    mid = 0.5 * (a + b)
+    f = s.bb.feat
+    walk = np.flatnonzero(np.isin(f["pos"][:f.n].view([("", float)] * 3), mid.view([("", float)] * 3)))
+    assert len(mid) > 200 and len(walk) > 100
+    left = walk[~f["used"][walk]]
+    assert len(left) < 0.05 * len(walk)
+    P = np.concatenate([o.points for o in s.traces.done if o.kind == "silhouette"])
+    d = np.linalg.norm(f["pos"][left][:, None] - P[None], axis=2).min(axis=1)
+    assert (d >= 0.5 * s.step_len).all()
+    cells = np.floor(f["pos"][left] / (0.5 * s.h)).astype(int)
+    assert len(np.unique(cells, axis=0)) == len(left)
