@@ -76,21 +76,28 @@ def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
     per ray-march step for all their points): a list of [(start, end)] per polyline."""
     if not polylines:
         return []
-    sizes = [len(p) for p in polylines]
+    sizes = np.array([len(p) for p in polylines])
     P = np.concatenate([np.asarray(p, float).reshape(-1, 3) for p in polylines])
     Nn = None if normals is None else np.concatenate([np.asarray(n, float).reshape(-1, 3) for n in normals])
-    v = visible(ev, P, eye, Nn)
-    out = []
-    for part in np.split(v, np.cumsum(sizes)[:-1]):
-        out.append(_runs(part, min_points))
-    return out
+    return _runs(visible(ev, P, eye, Nn), sizes, min_points)
 
 
-def _runs(v, min_points):
-    """[(start, end)] of the True runs of v at least min_points long."""
-    if len(v) == 0:
-        return []
-    d = np.diff(np.concatenate([[0], v.astype(np.int8), [0]]))
+def _runs(v, sizes, min_points):
+    """[(start, end)] of the True runs of v at least min_points long, per polyline
+    (``sizes``: the polylines' lengths along v; a run never crosses from one to the
+    next), found in one pass over all of them."""
+    ends_at = np.cumsum(sizes)
+    first = ends_at - sizes
+    # a False between consecutive polylines, so no run crosses from one into the next
+    gap = np.insert(v.astype(np.int8), ends_at, 0)
+    gapped = first + np.arange(len(sizes))                   # each polyline's first point in ``gap``
+    d = np.diff(np.concatenate([[0], gap, [0]]))
     starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
     keep = ends - starts >= min_points
-    return list(zip(starts[keep].tolist(), ends[keep].tolist()))
+    starts, ends = starts[keep], ends[keep]
+    line = np.searchsorted(gapped, starts, "right") - 1
+    starts, ends = (starts - gapped[line]).tolist(), (ends - gapped[line]).tolist()
+    out = [[] for _ in sizes]
+    for k, a, b in zip(line.tolist(), starts, ends):
+        out[k].append((a, b))
+    return out

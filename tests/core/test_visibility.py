@@ -4,6 +4,7 @@ import numpy as np
 from blobtree_ink import model as M
 from blobtree_ink.agents import Outline
 from blobtree_ink.strokes import StrokeSet, split_visible, visible
+from blobtree_ink.strokes.visibility import split_visible_many
 
 
 def two_balls():
@@ -37,6 +38,24 @@ def test_strokes_are_split_where_visibility_changes():
     # the shadow of ball 1 (radius r at distance 10 from the eye) on the plane y = 2.54
     r = 0.4543
     assert hidden.min() > -0.6 and hidden.max() < 0.6 and hidden.min() < -0.4 and hidden.max() > 0.4
+
+
+def test_many_strokes_are_split_as_each_alone():
+    """In one batch, each polyline's visible runs are those it has alone: a run never
+    continues from one polyline into the next, and one shorter than min_points is
+    dropped (empty and one-point polylines included)."""
+    ev = two_balls()
+    eye = np.array([0.0, -10.0, 0.0])
+    x = np.linspace(-1.2, 1.2, 49)
+    across = np.stack([x, np.full_like(x, 3 - 0.46), np.zeros_like(x)], axis=1)
+    front = np.stack([0.3 * x, np.full_like(x, -1.0), np.zeros_like(x)], axis=1)      # between the eye and ball 1
+    lines = [across, front[:5], np.zeros((0, 3)), across[20:29], front[:1], across[::-1], front[:2]]
+    for m in (1, 2, 3):
+        assert split_visible_many(ev, lines, eye, min_points=m) == \
+            [split_visible_many(ev, [p], eye, min_points=m)[0] if len(p) else [] for p in lines]
+    got = split_visible_many(ev, lines, eye)
+    assert got[1] == [(0, 5)] and got[2] == [] and got[3] == [] and got[4] == [] and got[6] == [(0, 2)]
+    assert got[5] == [(0, len(x) - got[0][1][0]), (len(x) - got[0][0][1], len(x))]
 
 
 def test_stroke_set_from_outlines():
