@@ -35,12 +35,16 @@ MARKS = {"hatching": (0, 0.78),
 @dataclass(frozen=True)
 class Canvas:
     """What every layer is drawn with: the model's evaluator, the eye, the light (a unit
-    direction), the radius of a line of width 1 and the strokes' unit of length."""
+    direction), the radius of a line of width 1 and the strokes' unit of length;
+    ``settled``: the model is the last frame's, so likely the next frame's too (the
+    smarticles' paths of every mark, kept with it, are made at once: in the next frames
+    the light and the eye only choose among them)."""
     ev: object
     eye: np.ndarray
     light: np.ndarray
     line_radius: float
     unit: float
+    settled: bool = False
 
     def radius(self, st):
         """The radius of the style's lines."""
@@ -109,11 +113,11 @@ def hatching(cv, sampling, st, region, part, cross=False):
     if not cross:
         return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=field, axis=st.hatch_axis,
                           lower=st.shade_lower, upper=st.shade_upper, rules=rules, flock_size=st.flock_size,
-                          paths=paths, **kw)
+                          paths=paths, every_path=cv.settled, **kw)
     up = 0.5 * (st.shade_lower + st.shade_upper)
     return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=field, axis=st.hatch_axis,
                       lower=0.4 * st.shade_lower, upper=up, rules=rules, flock_size=st.flock_size, salt=1,
-                      paths=paths, **dict(kw, radius=0.5 * cv.radius(st)))
+                      paths=paths, every_path=cv.settled, **dict(kw, radius=0.5 * cv.radius(st)))
 
 
 def chains_parts(cv, sampling, marks, st, region):
@@ -140,7 +144,8 @@ def short(cv, sampling, st, region, part):
     paths = _kept(cv, region, st.hatch_field, "short", st.hatch_field, tuple(st.hatch_axis),
                   tuple(sorted(kw["weights"].items())), STEP * cv.unit)
     return L.short_strokes(cv.ev, part, cv.eye, cv.light, STEP * cv.unit, field=st.hatch_field,
-                           axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05, paths=paths, **kw)
+                           axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05, paths=paths,
+                           every_path=cv.settled, **kw)
 
 
 def stipples(cv, sampling, st, region, part):
@@ -148,7 +153,8 @@ def stipples(cv, sampling, st, region, part):
     step = 0.5 * STEP * cv.unit
     return L.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * cv.radius(st),
-                      region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step))
+                      region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
+                      every_path=cv.settled)
 
 
 def single_stroke(cv, st, point, seed=0):

@@ -126,24 +126,35 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
 
 
 def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.25, upper=0.6, weights=None,
-             rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0, paths=None):
+             rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0, paths=None,
+             every_path=False):
     """Hatching strokes from the marks (model.marks) that fall in shade, following a
     flow field, each heading the way its mark's reference direction says; with
     ``flock_size`` > 1 one mark in flock_size (by its key) spawns a flock, so the
     density stays alike. ``salt``: another layer's choices (cross-hatching); ``paths``:
-    the smarticles' paths kept for these rules (smarticles.run_kept)."""
-    lit = lighting(marks.normals, light)
-    pick = chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))
+    the smarticles' paths kept for these rules (smarticles.run_kept), and with
+    ``every_path`` those of every mark are made in it, in shade or not (a model seen in
+    frame after frame: the light and the eye then only choose among them)."""
+    flocks = np.ones(len(marks), bool)
     if flock_size > 1:
-        pick &= keyed.uniform(marks.keys, salt, FLOCK) * flock_size < 1.0
-    m = marks.take(pick)
+        flocks = keyed.uniform(marks.keys, salt, FLOCK) * flock_size < 1.0
     rules = rules or sm.StrokeRules(max_steps=10, region=region)
     flow = direction_field(field, axis, eye)
-    H = headings(ev, m.points, field, m.ref, axis, eye)
-    own = m.keys if salt == 0 else keyed.combine(m.keys, salt)      # cross-hatching's strokes are others
-    P, H, flock, keys = spawn_flocks(m.points, m.normals, H, flock_size, 1.5 * step, own)
-    res = sm.run_kept(paths, ev, P, flow, step, weights or sm.PRESETS["hatching"], rules, keys, flock=flock,
-                      headings=H)
+    w = weights or sm.PRESETS["hatching"]
+
+    def own(m):
+        return m.keys if salt == 0 else keyed.combine(m.keys, salt)     # cross-hatching's strokes are others
+
+    def run(m):
+        H = headings(ev, m.points, field, m.ref, axis, eye)
+        P, H, flock, keys = spawn_flocks(m.points, m.normals, H, flock_size, 1.5 * step, own(m))
+        return sm.run_kept(paths, ev, P, flow, step, w, rules, keys, flock=flock, headings=H), keys
+    every = marks.take(flocks)
+    if every_path and not _made(paths, own(every) if flock_size <= 1 else
+                                keyed.combine(own(every)[:, None], np.arange(flock_size)[None, :]).ravel()):
+        run(every)
+    lit = lighting(marks.normals, light)
+    res, keys = run(marks.take(flocks & chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))))
     return shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
 
 
@@ -200,22 +211,27 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
 
 
 def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), steps=3, lower=0.3, upper=0.65,
-                  weights=None, radius=0.003, region=None, contrast=1.0, paths=None):
+                  weights=None, radius=0.003, region=None, contrast=1.0, paths=None, every_path=False):
     """Short general strokes centred on the marks (MASSRIS 7 centres them on polygons):
     from each chosen mark a smarticle goes ``steps`` steps each way along the flow
-    field; the two halves make one stroke through the mark (``paths``: as for
-    :func:`hatching`)."""
-    lit = lighting(marks.normals, light)
-    m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
-    if len(m) == 0:
-        return []
+    field; the two halves make one stroke through the mark (``paths``, ``every_path``:
+    as for :func:`hatching`)."""
     flow = direction_field(field, axis, eye)
     rules = sm.StrokeRules(max_steps=steps, stop_on_curvature_sign=False, max_normal_angle=np.radians(60),
                            region=region)
     w = weights or sm.PRESETS["hatching"]
-    H = headings(ev, m.points, field, m.ref, axis, eye)
-    fwd = sm.run_kept(paths, ev, m.points, flow, step, w, rules, m.keys, headings=H)
-    bwd = sm.run_kept(paths, ev, m.points, flow, step, w, rules, keyed.combine(m.keys, BACKWARDS), headings=-H)
+
+    def run(m):
+        H = headings(ev, m.points, field, m.ref, axis, eye)
+        return (sm.run_kept(paths, ev, m.points, flow, step, w, rules, m.keys, headings=H),
+                sm.run_kept(paths, ev, m.points, flow, step, w, rules, keyed.combine(m.keys, BACKWARDS), headings=-H))
+    if every_path and not _made(paths, np.concatenate([marks.keys, keyed.combine(marks.keys, BACKWARDS)])):
+        run(marks)
+    lit = lighting(marks.normals, light)
+    m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
+    if len(m) == 0:
+        return []
+    fwd, bwd = run(m)
     whole = sm.Run()
     for pf, nf, pb, nb in zip(fwd.paths, fwd.normals, bwd.paths, bwd.normals):
         whole.paths.append(np.vstack([pb[:0:-1], pf]))
@@ -224,19 +240,24 @@ def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), ste
 
 
 def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
-             region=None, contrast=1.0, paths=None):
+             region=None, contrast=1.0, paths=None, every_path=False):
     """One-point strokes at every ``every``-th step of wandering smarticles started at
-    the marks in shade; each dot's mark is its smarticle's key and step (``paths``: as
-    for :func:`hatching`)."""
+    the marks in shade; each dot's mark is its smarticle's key and step (``paths``,
+    ``every_path``: as for :func:`hatching`)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")
-    lit = lighting(marks.normals, light_dir)
-    m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
     rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False,
                            region=region)
-    res = sm.run_kept(paths, ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, m.keys,
-                      headings=headings(ev, m.points, "dir1", m.ref))
+
+    def run(m):
+        return sm.run_kept(paths, ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, m.keys,
+                           headings=headings(ev, m.points, "dir1", m.ref))
+    if every_path and not _made(paths, marks.keys):
+        run(marks)
+    lit = lighting(marks.normals, light_dir)
+    m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
+    res = run(m)
     if not res.paths:
         return []
     D = np.concatenate([p[::every] for p in res.paths])
@@ -252,6 +273,12 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     r, o = tone(shade[vis], upper, radius, contrast)
     return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True, mark=int(k))
             for i, (p, k) in enumerate(zip(D[vis], K[vis]))]
+
+
+def _made(paths, keys):
+    """Whether the kept paths (smarticles.run_kept's dict; None: none kept) hold these
+    smarticles' already (then none is made again)."""
+    return paths is None or all(k in paths for k in np.asarray(keys, np.uint64).tolist())
 
 
 def isotropic(c):

@@ -158,10 +158,9 @@ def test_other_settings_start_from_scratch(load_example):
     assert len(a) == len(b) and all(np.array_equal(x.points, y.points) for x, y in zip(a, b))
 
 
-def job(model, eye, style="hatched"):
+def job(model, eye, style="hatched", light=(-0.4, -0.5, 0.75)):
     requests = (PL.Request("OUTLINES"), PL.Request("PLACE_STROKES"))
-    return PL.Job(model, View(eye=eye), np.array([-0.4, -0.5, 0.75]), ST.style(style), requests, 0,
-                  Settings(resolution=16))
+    return PL.Job(model, View(eye=eye), np.array(light), ST.style(style), requests, 0, Settings(resolution=16))
 
 
 def test_an_illustration_going_on_from_the_last_frame(load_example):
@@ -187,6 +186,31 @@ def test_an_illustration_going_on_from_the_last_frame(load_example):
     assert covered(going.sampling.outlines, alone.sampling.outlines, 0.5 * cell) >= 0.99
     sil = [np.concatenate([s.points for s in r.strokes.layers["Silhouette"]]) for r in (res, res_alone)]
     assert np.mean(nearest_distance(sil[0], sil[1]) < 0.5 * cell) > 0.98
+
+
+def test_a_settled_model_makes_every_marks_path_at_once(load_example):
+    """A frame whose model is the last frame's makes the smarticles' paths of every mark
+    of its marked layers, in shade or not: a next frame whose eye and light moved (other
+    marks in shade) makes none. Its strokes are those a frame alone draws, bit for bit."""
+    model = load_example("pear")
+    for style, layer in (("hatched", "Hatching"), ("short-strokes", "Short Strokes"), ("stippled", "Stipples")):
+        first = PL.Illustration(job(model, EYE, style), remember=True)
+        first.run()
+        second = PL.Illustration(job(model, turned(EYE, 0.05), style), previous=first.continuation(), remember=True)
+        second.run()
+        assert not first.canvas.settled and second.canvas.settled and second.ev is first.ev
+        kept = {k: len(v) for k, v in second.ev.memo.items() if k[0] == "paths"}
+        eye, light = turned(EYE, 0.4), (0.5, -0.2, 0.8)
+        third = PL.Illustration(job(model, eye, style, light), previous=second.continuation(), remember=True)
+        res = third.run()
+        assert {k: len(v) for k, v in third.ev.memo.items() if k[0] == "paths"} == kept
+        alone = PL.Illustration(job(model, eye, style, light)).run()
+        a, b = res.strokes.layers[layer], alone.strokes.layers[layer]
+        assert len(a) > 20 and [st.mark for st in a] == [st.mark for st in b]
+        assert all(np.array_equal(x.points, y.points) for x, y in zip(a, b))
+        # marks the first frames drew none from are drawn from in the third
+        drawn = {st.mark for st in first.result().strokes.layers[layer]}
+        assert {st.mark for st in a} - drawn
 
 
 def test_a_stopped_or_unfinished_illustration_leaves_nothing(load_example):
