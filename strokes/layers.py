@@ -20,7 +20,7 @@ from ..agents import steering as st
 from ..model import keyed
 from ..model.curvature import curvature
 from .data import Stroke
-from .visibility import split_visible_many, visible
+from .visibility import visible, visible_runs
 
 FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
 ISOTROPIC = 0.2         # principal directions count where (k1 - k2) exceeds this share of |k1| + |k2|
@@ -95,7 +95,7 @@ def spawn_flocks(starts, normals, headings, size, spacing, keys):
     side = st.unit(np.cross(normals, headings))
     offs = (np.arange(size) - 0.5 * (size - 1)) * spacing
     P = starts[:, None, :] + offs[None, :, None] * side[:, None, :]
-    members = keyed.combine(keys[:, None], np.arange(size)[None, :]).reshape(-1)
+    members = flock_keys(keys, size)
     z = keyed.normal(members, FLOCK_PLACE, count=3).reshape(len(starts), size, 3)
     frame = np.stack([headings, side, normals], axis=1)             # (n, 3 axes, 3)
     P = P + 0.25 * spacing * np.einsum("nma,nak->nmk", z, frame)
@@ -103,25 +103,45 @@ def spawn_flocks(starts, normals, headings, size, spacing, keys):
     return P.reshape(-1, 3), H, np.repeat(np.arange(len(starts)), size), members
 
 
+def flock_keys(keys, size):
+    """The keys of the members of the flocks the marks of ``keys`` spawn (:func:`spawn_flocks`)."""
+    keys = np.asarray(keys, np.uint64)
+    return keys if size <= 1 else keyed.combine(keys[:, None], np.arange(size)[None, :]).reshape(-1)
+
+
 def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0, min_points=2, keys=None):
     """Smarticle paths as strokes: cut where they leave the shade (or the region),
     split where they go out of sight (one batched visibility test), toned by the shade;
-    each stroke keeps its smarticle's key (``keys``) as its mark."""
-    kept = []
-    for i, (path, nrm) in enumerate(zip(res.paths, res.normals)):
-        shade = lighting(nrm, light)
-        inside = shade <= upper
-        if region is not None:
-            inside &= region.contains(path)
-        cut = len(path) if inside.all() else int(np.argmin(inside))    # shortened where it leaves the shade
-        if cut >= min_points:
-            kept.append((path[:cut], nrm[:cut], shade[:cut], None if keys is None else int(keys[i])))
-    runs = split_visible_many(ev, [k[0] for k in kept], eye, [k[1] for k in kept], min_points)
+    each stroke keeps its smarticle's key (``keys``) as its mark. All paths' points are
+    lit, cut and toned together."""
+    if not res.paths:
+        return []
+    sizes = np.array([len(p) for p in res.paths])
+    P = np.concatenate([np.asarray(p, float).reshape(-1, 3) for p in res.paths])
+    N = np.concatenate([np.asarray(n, float).reshape(-1, 3) for n in res.normals])
+    shade = lighting(N, light)
+    inside = shade <= upper
+    if region is not None:
+        inside &= region.contains(P)
+    # each path shortened where it first leaves the shade
+    first = np.cumsum(sizes) - sizes
+    local = np.arange(len(P)) - np.repeat(first, sizes)
+    cut = sizes.copy()
+    some = sizes > 0
+    if some.any():
+        cut[some] = np.minimum.reduceat(np.where(inside, np.repeat(sizes, sizes), local), first[some])
+    kept = cut >= min_points
+    take = (local < np.repeat(cut, sizes)) & np.repeat(kept, sizes)
+    P, N, shade = P[take], N[take], shade[take]
+    sizes = cut[kept]
+    at = np.cumsum(sizes) - sizes
+    r, o = tone(shade, upper, radius, contrast)
+    marks = [None] * len(sizes) if keys is None else np.asarray(keys)[kept].tolist()
     out = []
-    for (path, nrm, shade, key), rr in zip(kept, runs):
-        for a, b in rr:
-            r, o = tone(shade[a:b], upper, radius, contrast)
-            out.append(Stroke(path[a:b], r, o, mark=key))
+    for k, runs in enumerate(visible_runs(ev, P, sizes, eye, N, min_points)):
+        for a, b in runs:
+            a, b = at[k] + a, at[k] + b
+            out.append(Stroke(P[a:b], r[a:b], o[a:b], mark=None if marks[k] is None else int(marks[k])))
     return out
 
 
@@ -146,13 +166,15 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
         return m.keys if salt == 0 else keyed.combine(m.keys, salt)     # cross-hatching's strokes are others
 
     def run(m):
-        H = headings(ev, m.points, field, m.ref, axis, eye)
-        P, H, flock, keys = spawn_flocks(m.points, m.normals, H, flock_size, 1.5 * step, own(m))
-        return sm.run_kept(paths, ev, P, flow, step, w, rules, keys, flock=flock, headings=H), keys
-    every = marks.take(flocks)
-    if every_path and not _made(paths, own(every) if flock_size <= 1 else
-                                keyed.combine(own(every)[:, None], np.arange(flock_size)[None, :]).ravel()):
-        run(every)
+        keys = flock_keys(own(m), flock_size)
+        res = sm.kept(paths, keys)
+        if res is None:
+            H = headings(ev, m.points, field, m.ref, axis, eye)
+            P, H, flock, keys = spawn_flocks(m.points, m.normals, H, flock_size, 1.5 * step, own(m))
+            res = sm.run_kept(paths, ev, P, flow, step, w, rules, keys, flock=flock, headings=H)
+        return res, keys
+    if every_path and paths is not None:
+        run(marks.take(flocks))
     lit = lighting(marks.normals, light)
     res, keys = run(marks.take(flocks & chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))))
     return shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
@@ -222,10 +244,14 @@ def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), ste
     w = weights or sm.PRESETS["hatching"]
 
     def run(m):
-        H = headings(ev, m.points, field, m.ref, axis, eye)
-        return (sm.run_kept(paths, ev, m.points, flow, step, w, rules, m.keys, headings=H),
-                sm.run_kept(paths, ev, m.points, flow, step, w, rules, keyed.combine(m.keys, BACKWARDS), headings=-H))
-    if every_path and not _made(paths, np.concatenate([marks.keys, keyed.combine(marks.keys, BACKWARDS)])):
+        back = keyed.combine(m.keys, BACKWARDS)
+        fwd, bwd = sm.kept(paths, m.keys), sm.kept(paths, back)
+        if fwd is None or bwd is None:
+            H = headings(ev, m.points, field, m.ref, axis, eye)
+            fwd = sm.run_kept(paths, ev, m.points, flow, step, w, rules, m.keys, headings=H)
+            bwd = sm.run_kept(paths, ev, m.points, flow, step, w, rules, back, headings=-H)
+        return fwd, bwd
+    if every_path and paths is not None:
         run(marks)
     lit = lighting(marks.normals, light)
     m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
@@ -251,9 +277,12 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
                            region=region)
 
     def run(m):
-        return sm.run_kept(paths, ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules, m.keys,
-                           headings=headings(ev, m.points, "dir1", m.ref))
-    if every_path and not _made(paths, marks.keys):
+        res = sm.kept(paths, m.keys)
+        if res is None:
+            res = sm.run_kept(paths, ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules,
+                              m.keys, headings=headings(ev, m.points, "dir1", m.ref))
+        return res
+    if every_path and paths is not None:
         run(marks)
     lit = lighting(marks.normals, light_dir)
     m = marks.take(chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, SHADE)))
@@ -273,12 +302,6 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     r, o = tone(shade[vis], upper, radius, contrast)
     return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True, mark=int(k))
             for i, (p, k) in enumerate(zip(D[vis], K[vis]))]
-
-
-def _made(paths, keys):
-    """Whether the kept paths (smarticles.run_kept's dict; None: none kept) hold these
-    smarticles' already (then none is made again)."""
-    return paths is None or all(k in paths for k in np.asarray(keys, np.uint64).tolist())
 
 
 def isotropic(c):

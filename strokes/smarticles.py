@@ -184,6 +184,24 @@ def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flo
     return out
 
 
+def kept(paths, keys):
+    """The Run of these smarticles' paths when ``paths`` (:func:`run_kept`'s dict) holds
+    every one of them, else None (then nothing about them needs to be known to run them:
+    their starts and headings)."""
+    if paths is None:
+        return None
+    ids = np.asarray(keys, np.uint64).tolist()
+    if not all(k in paths for k in ids):
+        return None
+    out = Run()
+    for k in ids:
+        p, n, r = paths[k]
+        out.paths.append(p)
+        out.normals.append(n)
+        out.reasons.append(r)
+    return out
+
+
 WANDER = 7              # the salt of the wander's noise (model.keyed)
 CARRIED = ("mean", "k1", "k2", "dir1", "dir2")      # the curvature a flow field may read
 

@@ -79,7 +79,13 @@ def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
     sizes = np.array([len(p) for p in polylines])
     P = np.concatenate([np.asarray(p, float).reshape(-1, 3) for p in polylines])
     Nn = None if normals is None else np.concatenate([np.asarray(n, float).reshape(-1, 3) for n in normals])
-    return _runs(visible(ev, P, eye, Nn), sizes, min_points)
+    return visible_runs(ev, P, sizes, eye, Nn, min_points)
+
+
+def visible_runs(ev, P, sizes, eye, normals=None, min_points=2):
+    """:func:`split_visible_many` of polylines given as their points one after the other
+    (``P``, with their ``normals``) and their lengths (``sizes``)."""
+    return _runs(visible(ev, P, eye, normals), np.asarray(sizes), min_points)
 
 
 def _runs(v, sizes, min_points):
