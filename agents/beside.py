@@ -9,6 +9,7 @@ crease) counts only where n.v is small on one side of it: a silhouette is near."
 import numpy as np
 
 from ..blackboard.keys import unique_rows
+from ..model.vectors import cross
 from .steering import unit
 
 OFFSETS = np.array([0.2, 0.4, 0.7, 1.0])               # sideways, in voxels
@@ -32,7 +33,7 @@ def seeds_beside_silhouettes(outlines, surface, board, traced, step_len, crease_
         P, N, T = P[keep], N[keep], T[keep]
     if len(P) == 0:
         return 0
-    W = unit(np.cross(N, T))
+    W = unit(cross(N, T))
     h, k = board.h, len(OFFSETS)
     base = np.concatenate([P, P])
     side = np.concatenate([W, -W])

@@ -33,6 +33,7 @@ import numpy as np
 
 from ..blackboard.board import VIEW_DEPENDENT
 from ..blackboard.keys import unique_rows
+from ..model.vectors import cross
 from .changes import EVERYWHERE, changed
 from .outline import Outline
 
@@ -204,7 +205,7 @@ def seed_brackets(outlines, h):
             continue
         T = np.gradient(np.vstack([P[-1:], P, P[:1]]) if o.closed else P, axis=0)
         T = T[1:-1] if o.closed else T
-        W = np.cross(N, T)
+        W = cross(N, T)
         W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
         sel = slice(SEED_EVERY // 2, len(P), SEED_EVERY)
         for width in BRACKETS:

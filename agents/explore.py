@@ -10,6 +10,7 @@ import numpy as np
 from ..blackboard.board import FEATURE_KINDS
 from ..model.curvature import curvature, radial
 from ..model.tolerances import NEAR_SURFACE, on_surface
+from ..model.vectors import cross
 from . import steering as st
 from .columns import Columns
 
@@ -85,7 +86,7 @@ class Explorers:
         P, g, centres = P[ok], g[ok], centres[ok]
         rows = [r for r, k in zip(rows, ok) if k]
         n = surface.normals(g)
-        d = st.unit(np.cross(n, self.rng.normal(size=(len(P), 3))))
+        d = st.unit(cross(n, self.rng.normal(size=(len(P), 3))))
         sil = np.einsum("ij,ij->i", n, surface.view.towards_eye(P))
         c = curvature(surface.ev, P, g)
         self.table.append(len(rows), agent=self.pool.take(len(rows)), voxel=rows, centre=centres, p=P, d=d, n=n,

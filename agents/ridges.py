@@ -38,6 +38,7 @@ import numpy as np
 from ..blackboard.board import KIND_ID
 from ..model.curvature import curvature, view_dependent
 from ..model.tolerances import NEAR_SURFACE, on_surface
+from ..model.vectors import cross
 from .columns import Columns, Paths
 from .outline import Outline
 from .sheets import record_ends
@@ -199,7 +200,7 @@ class RidgeTraces:
         k = len(X)
         serial = self.serial + np.arange(k)
         self.serial += k
-        t = unit(np.cross(surface.normals(g), u))
+        t = unit(cross(surface.normals(g), u))
         self.starts.append(2 * k, serial=np.repeat(serial, 2), way=np.tile([1, -1], k), p=np.repeat(X, 2, axis=0),
                            g=np.repeat(g, 2, axis=0), t=np.repeat(t, 2, axis=0) * np.tile([1.0, -1.0], k)[:, None])
 
@@ -255,7 +256,7 @@ class RidgeTraces:
         n0 = surface.normals(tk.g)
         D = tk.t[rows]
         ang = np.concatenate([np.zeros(m), np.tile(FAN[1:], len(first))])
-        side = np.cross(n0[rows], D)
+        side = cross(n0[rows], D)
         D = np.cos(ang)[:, None] * D + np.sin(ang)[:, None] * side
         Y, _, gY = surface.project(tk.p[rows] + h * D, anchor=tk.p[rows])
         X, gX, ok = peak(surface, Y, gY, reach=h)

@@ -14,6 +14,7 @@ import numpy as np
 
 from ..model.branches import NOT_REACHED
 from ..model.tolerances import on_surface
+from ..model.vectors import cross
 from .asks import Ask, run
 from .surface import newton_update, unit
 
@@ -112,6 +113,6 @@ def switches_steps(surface, X, nA, nB, W, eps):
 def side_points(X, nA, nB, W, eps):
     """Points a little into each sheet from crease points X (across the crease, along
     W from side A to side B, made perpendicular to the crease nA x nB)."""
-    T = unit(np.cross(nA, nB))
+    T = unit(cross(nA, nB))
     W = unit(W - np.einsum("ij,ij->i", W, T)[:, None] * T)
     return X - eps[:, None] * W, X + eps[:, None] * W

@@ -8,6 +8,8 @@ applied as Newton steps).
 """
 import numpy as np
 
+from ..model.vectors import cross
+
 
 def tangent(v, n):
     """v projected into the tangent planes of normals n."""
@@ -40,7 +42,7 @@ def axis_field(normals, axis):
 
 def contour_field(normals, view_dirs):
     """The contour direction: tangent and perpendicular to the view direction."""
-    return unit(np.cross(normals, view_dirs))
+    return unit(cross(normals, view_dirs))
 
 
 def seek(P, target):

@@ -12,6 +12,7 @@ import numpy as np
 
 from ..model.curvature import along_points, along_values, curvature, radial
 from ..model.projection import newton
+from ..model.vectors import cross
 from .asks import Ask, run
 from .steering import unit
 
@@ -153,7 +154,7 @@ class Surface:
             F[live], G[live] = f, g
             ds = hd[0] - g if self.view.eye is not None else hd[0]
             Tl = T[live]
-            tan = unit(np.cross(g, ds))
+            tan = unit(cross(g, ds))
             Tout[live] = np.where(np.einsum("ij,ij->i", tan, Tl)[:, None] < 0, -tan, tan)
             J = np.stack([g, ds, Tl], axis=1)                                  # (k, 3, 3)
             r = -np.stack([f - self.iso, np.einsum("ij,ij->i", g, w),
@@ -200,7 +201,7 @@ class Surface:
         if len(X) == 0:
             return np.zeros(0, bool)
         m = len(X)
-        c, here, _, _ = self.probed(X, g, unit(np.cross(self.normals(g), T)))
+        c, here, _, _ = self.probed(X, g, unit(cross(self.normals(g), T)))
         mean = c["k1"] + c["k2"]
         return _crossing(mean, here, m, self.scale) & (np.abs(mean[:m]) <= ZERO_MEAN * here[:m])
 
@@ -265,7 +266,7 @@ def newton_update(X, Q, live, J, r, reach, tol, ok):
     # Cramer's rule: the inverse's columns are the cross products of J's rows over
     # det (LAPACK's batched det and solve cost more than the sum on tiny batches)
     r0, r1, r2 = J[:, 0], J[:, 1], J[:, 2]
-    c0, c1, c2 = np.cross(r1, r2), np.cross(r2, r0), np.cross(r0, r1)
+    c0, c1, c2 = cross(r1, r2), cross(r2, r0), cross(r0, r1)
     det = np.einsum("ij,ij->i", r0, c0)
     size = np.sqrt(np.einsum("ikj,ikj->ik", J, J).prod(axis=1))
     good = np.isfinite(det) & (np.abs(det) > 1e-6 * size)

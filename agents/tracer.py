@@ -15,6 +15,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model.tolerances import on_surface
+from ..model.vectors import cross
 from . import sheets
 from .asks import run
 from .bisection import bisect, bisect_some
@@ -73,13 +74,13 @@ def levels_hold(surface, kinds, ok, X, g, T):
 def level_tangent(surface, kinds, X, n, ref, eps):
     """The direction along which a signed quantity stays zero: n x (its surface gradient),
     the gradient estimated from central differences on the surface."""
-    e1 = unit(np.cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])))
-    e2 = np.cross(n, e1)
+    e1 = unit(cross(n, np.where(np.abs(n[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])))
+    e2 = cross(n, e1)
     pts = np.concatenate([X + eps * e1, X - eps * e1, X + eps * e2, X - eps * e2])
     P, _, g = surface.project(pts)
     s = surface.signs(np.concatenate([kinds] * 4), P, g, np.concatenate([ref] * 4)).reshape(4, -1)
     G = (s[0] - s[1])[:, None] * e1 + (s[2] - s[3])[:, None] * e2
-    return unit(np.cross(n, G))
+    return unit(cross(n, G))
 
 
 class Seeds(NamedTuple):
@@ -127,9 +128,9 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     use = sheets.usable(surface)
     pins = np.full((m, 2, surface.ev.sites.count if use else 0), -2, np.int32)
     sep = np.zeros(m, bool)
-    cross = (sA > 0) != (sB > 0)
-    sil = np.flatnonzero((kinds == SIL) & cross)
-    cr = np.flatnonzero((kinds == CREASE) & cross & use)
+    flips = (sA > 0) != (sB > 0)
+    sil = np.flatnonzero((kinds == SIL) & flips)
+    cr = np.flatnonzero((kinds == CREASE) & flips & use)
 
     def silhouettes():
         # a converged point is on the surface with n.v = 0 where the field is smooth: a
@@ -137,7 +138,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
         # jumps through zero, Newton finds none and the bisection rejects the bracket)
         d = b[sil] - a[sil]
         u = np.clip(sA[sil] / (sA[sil] - sB[sil]), 0.0, 1.0)[:, None]
-        T = unit(np.cross(unit((1.0 - u) * na[sil] + u * nb[sil]), d))
+        T = unit(cross(unit((1.0 - u) * na[sil] + u * nb[sil]), d))
         Xs, _, Gs, Ts, conv, _ = yield from surface.silhouette_newton_steps(a[sil] + u * d, T,
                                                                             np.linalg.norm(d, axis=1), tol)
         got = sil[conv]
@@ -165,7 +166,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
             return
         w = np.linalg.norm(b[c] - a[c], axis=1)
         mid = 0.5 * (a[c] + b[c])
-        Tc = unit(np.cross(na[c], nb[c]))
+        Tc = unit(cross(na[c], nb[c]))
         X0 = crease_estimate(a[c], b[c], na[c], nb[c], mid)
         Xc, gAc, gBc, _, gc, conv = yield from sheets.crease_newton_steps(surface, X0, mid, Tc, pins[c], WEDGE * w, tol)
         got = c[conv]
@@ -208,7 +209,7 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
     lev = np.flatnonzero(~cre & ~by_newton & valid)
     if len(lev):
         tangent[lev] = level_tangent(surface, kinds[lev], X[lev], n[lev], (nA - nB)[lev], eps)
-    tangent = np.where(cre[:, None], unit(np.cross(nA, nB)), tangent)
+    tangent = np.where(cre[:, None], unit(cross(nA, nB)), tangent)
     bad = ~np.all(np.isfinite(tangent), axis=1) | (np.linalg.norm(tangent, axis=1) < 0.5)
     valid &= ~bad
     fX, _ = surface.field_grad(X)
@@ -289,7 +290,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
         X[got], nA_out[got], nB_out[got] = Xc[conv], nA, nB
         fX[got], gX[got] = Fc[conv], Gc[conv]
         A_out[got], B_out[got] = sides[0, conv], sides[1, conv]
-        tc = unit(np.cross(nA, nB))
+        tc = unit(cross(nA, nB))
         tangent[got] = np.where(np.einsum("ij,ij->i", tc, T[got])[:, None] < 0, -tc, tc)
         found[got] = newton[got] = True
     todo = ~found
@@ -335,7 +336,7 @@ def _bracket_step(surface, kinds, P, T, ref, h, tol, crease_angle):
     ends and their normals, and whether each was found."""
     Q, _, gQ = surface.project(P + h[:, None] * T, anchor=P)
     n = surface.normals(gQ)
-    W = unit(np.cross(n, T))
+    W = unit(cross(n, T))
     found = np.zeros(len(P), bool)
     X = Q.copy()
     A_out, B_out = Q.copy(), Q.copy()

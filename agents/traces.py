@@ -17,6 +17,7 @@ crease's side record (agents.crease_seeds), now and at the seed.
 import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS, KIND_ID
+from ..model.vectors import cross
 from . import crease_seeds
 from .columns import Columns, Paths
 from .outline import Outline
@@ -80,7 +81,7 @@ class Traces:
             self.traced.add(kind, P, KEPT - k, np.arange(len(P)), n, step)
             self.done.append(o)
             if o.kind != "crease" and len(P) > 1:
-                W = np.cross(n, np.gradient(P, axis=0))
+                W = cross(n, np.gradient(P, axis=0))
                 W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
                 crossing.append((np.full(len(P), kind), P, n, W, np.full(len(P), step)))
         if crossing:                   # their seeds taken in one batch
@@ -278,7 +279,7 @@ class Traces:
         ended = np.flatnonzero(fate >= END)
         self._finish(ended, fate[ended] == CLOSED)
         tk.keep(fate < END)
-        W = np.where((kinds == KIND_ID["crease"])[:, None], refn, np.cross(n, Tn))
+        W = np.where((kinds == KIND_ID["crease"])[:, None], refn, cross(n, Tn))
         W /= np.maximum(np.linalg.norm(W, axis=1, keepdims=True), 1e-300)
         consume_crossed(self.board, self.surface, settings.crease_angle, kinds[kept], X[kept], n[kept], W[kept],
                         base[kept])

@@ -10,6 +10,7 @@ curvature: a sphere of radius r has k1 = k2 = 1/r, mean 1/r, Gaussian 1/r^2.
 import numpy as np
 
 from .evaluate import as_points
+from .vectors import cross
 
 HESSIAN_STEP = 1e-5
 
@@ -90,7 +91,7 @@ def curvature(ev, P, grad=None):
     k1 = kw[rows[:, 0], order[:, 0]]
     k2 = kw[rows[:, 0], order[:, 1]]
     d1 = kv[idx, order[:, 0]]
-    d2 = np.cross(nrm, d1)
+    d2 = cross(nrm, d1)
     bad = gn == 0
     for a in (k1, k2):
         a[bad] = np.nan
@@ -122,12 +123,12 @@ def view_dependent(c, towards_eye):
     J^-1 t1 for the unit image direction t1 (unnormalised: its length is the surface
     distance per unit of image distance)."""
     n, d1, d2 = c["normal"], c["dir1"], c["dir2"]
-    s1 = np.cross(towards_eye, n)
+    s1 = cross(towards_eye, n)
     head_on = np.linalg.norm(s1, axis=1) < 1e-9            # any image direction will do
-    s1[head_on] = np.cross(towards_eye[head_on], np.where(np.abs(towards_eye[head_on, :1]) < 0.9,
+    s1[head_on] = cross(towards_eye[head_on], np.where(np.abs(towards_eye[head_on, :1]) < 0.9,
                                                           [[1.0, 0, 0]], [[0, 1.0, 0]]))
     s1 /= np.linalg.norm(s1, axis=1, keepdims=True)
-    s2 = np.cross(towards_eye, s1)
+    s2 = cross(towards_eye, s1)
     J = np.stack([np.stack([np.einsum("ij,ij->i", d, s) for d in (d1, d2)], 1) for s in (s1, s2)], 1)
     det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
     ok = np.isfinite(det) & (np.abs(det) > 1e-12) & np.isfinite(c["k1"]) & np.isfinite(c["k2"])

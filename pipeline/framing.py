@@ -10,6 +10,7 @@ import numpy as np
 from ..blackboard.polygonise import surface_box
 from ..model.marks import surface_area
 from ..model.owners import owners
+from ..model.vectors import cross
 
 LINE_RADIUS = 0.0014        # a line's radius, as a fraction of the model's size (about 1.1 px at 1024 px
                             # in the command line's three-quarter view)
@@ -64,7 +65,7 @@ def default_light(centre, eye):
     direction towards the light)."""
     d = np.asarray(eye, float) - np.asarray(centre, float)
     d /= np.linalg.norm(d)
-    right = np.cross([0.0, 0.0, 1.0], d)          # the viewer's right (d points at the eye)
+    right = cross([0.0, 0.0, 1.0], d)          # the viewer's right (d points at the eye)
     right /= max(np.linalg.norm(right), 1e-12)
     light = 0.5 * d - 0.6 * right + 0.7 * np.array([0.0, 0.0, 1.0])
     return light / np.linalg.norm(light)

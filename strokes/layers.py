@@ -19,6 +19,7 @@ from . import smarticles as sm
 from ..agents import steering as st
 from ..model import keyed
 from ..model.curvature import curvature
+from ..model.vectors import cross
 from .data import Stroke
 from .visibility import visible, visible_runs
 
@@ -92,7 +93,7 @@ def spawn_flocks(starts, normals, headings, size, spacing, keys):
     keys = np.asarray(keys, np.uint64)
     if size <= 1 or len(starts) == 0:
         return starts, headings, np.arange(len(starts)), keys
-    side = st.unit(np.cross(normals, headings))
+    side = st.unit(cross(normals, headings))
     offs = (np.arange(size) - 0.5 * (size - 1)) * spacing
     P = starts[:, None, :] + offs[None, :, None] * side[:, None, :]
     members = flock_keys(keys, size)
@@ -200,7 +201,7 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
         if len(pts) < 2:
             continue
         T = st.unit(np.gradient(pts, axis=0))
-        across = st.unit(np.cross(nrm, T))
+        across = st.unit(cross(nrm, T))
         a = np.radians(angle)
         head = st.unit(np.cos(a) * T + np.sin(a) * across)
         sel = slice(0, len(pts), every)

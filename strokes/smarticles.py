@@ -18,6 +18,7 @@ from ..model.curvature import curvature
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..agents import steering as st
+from ..model.vectors import cross
 
 PRESETS = {
     # Smarticles 7.2: parallel strokes want separation and alignment over cohesion
@@ -212,7 +213,7 @@ def _noise(keys, k, dir1, normals, vel):
     relative to the surface wherever the surface is moved or turned."""
     z = keyed.normal(keys, WANDER, k, count=3)
     d1 = st.unit(st.flow(dir1, vel))
-    d2 = np.cross(normals, d1)
+    d2 = cross(normals, d1)
     return z[:, :1] * d1 + z[:, 1:2] * d2 + z[:, 2:] * normals
 
 

@@ -11,6 +11,7 @@ from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
+from ..model.vectors import cross
 from . import layers as L
 from . import smarticles as sm
 from .data import LAYER_OF_KIND, Stroke, StrokeSet
@@ -135,9 +136,9 @@ def canonical(points, closed, eye):
     forward = np.mean(points, axis=0) - np.asarray(eye, float)
     forward /= max(np.linalg.norm(forward), 1e-300)
     up = UP if abs(forward @ UP) < 0.99 else np.array([0.0, 1.0, 0.0])
-    right = np.cross(forward, up)
+    right = cross(forward, up)
     right /= np.linalg.norm(right)
-    xy = np.stack([points @ right, points @ np.cross(right, forward)], axis=1)
+    xy = np.stack([points @ right, points @ cross(right, forward)], axis=1)
     if not closed:
         return order[::-1] if (xy[-1] - xy[0]) @ ALONG < 0 else order
     x, y = xy[:, 0], xy[:, 1]
