@@ -75,7 +75,8 @@ class Session:
         self.h = self.bb.h
         changed = self.carried.changed         # where the field changed since the last frame (None: nowhere)
         # seen from where the last frame's eye was, after a frame that ran to its end: every
-        # kind is as its field is, the last frame's outside where it changed
+        # kind is as its field is, the last frame's outside where it changed (but for the
+        # detail phase of every REFRESH-th frame, which looks everywhere)
         self._static = self.carried.same_eye and self.carried.complete and changed is not EVERYWHERE
         kr = radial(curv, view.towards_eye(self.mesh.vertices))[0] if "suggestive" in s.kinds else None
         feats = process_edges(self.mesh, self.vertex_normals, curv["mean"], view, s.crease_angle, radial=kr)
@@ -144,7 +145,7 @@ class Session:
                                   V, gV, moved=[o for o in moved if o.kind == "ridges"])
         self.requests = []
         # flagged voxels queued for exploration, once (none where the field is the last frame's)
-        nothing_new = self._static or (self.carried.age and self._walks is None)
+        nothing_new = self.carried.age and (self._static or self._walks is None)
         self._detail = np.zeros(0, np.int64) if changed is None and nothing_new else None
         self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
         self._stitched = None       # (state, outlines) of the last stitching
@@ -156,7 +157,7 @@ class Session:
         """Which points lie where the field changed since the last frame (all without one,
         or when this frame's detail phase looks everywhere: agents.continuation)."""
         changed = self.carried.changed
-        if changed is EVERYWHERE or not self._static and (self.carried.age == 0 or self._walks is not None):
+        if changed is EVERYWHERE or self.carried.age == 0 or self._walks is not None and not self._static:
             return np.ones(len(P), bool)
         if changed is None:
             return np.zeros(len(P), bool)

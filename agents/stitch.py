@@ -3,8 +3,9 @@
 Agents trace one curve from several seeds at once and stop where they meet another's
 trace, so a curve arrives in pieces that meet head to head, sometimes overlapping by a
 step. All points of one kind are pooled (points sharing a cell an eighth of a link wide
-are merged), and polylines are chained greedily through a spatial hash: from a chain's
-end to the nearest unused point within ``link`` that continues forward (positive dot
+are merged), and polylines are chained greedily: each point's neighbours within
+``link`` are found once, nearest first (the lower-numbered on an exact tie), and a chain
+goes from its end to the nearest unused one that continues forward (positive dot
 product with the current direction), then the same from the chain's other end. A chain
 whose ends meet is closed.
 """

@@ -299,9 +299,11 @@ class Traces:
         m = len(tk)
         tries = np.zeros(m, np.int64)
         if m <= FEW:
-            sil = tk.kind == KIND_ID["silhouette"]
-            # as many as a step halved while it is longer than SHORTEST of the full step
-            tries[sil] = np.maximum(np.ceil(np.log2(tk.h[sil] / (tk.base[sil] * SHORTEST)) - 1e-9), 0)
+            # a silhouette step's halvings: as many as the retries its failures would take
+            h = np.where(tk.kind == KIND_ID["silhouette"], tk.h, 0.0)
+            while (more := h > tk.base * SHORTEST).any():
+                tries += more
+                h = np.where(more, 0.5 * h, 0.0)
         if not tries.any():
             return trace_step(self.surface, tk.kind, tk.p, tk.t, tk.ref, tk.h, self.tol, settings.crease_angle,
                               tk.last_n, tk.pins, (tk.team_a, tk.team_b), retry), retry
@@ -309,9 +311,12 @@ class Traces:
         first = np.cumsum(tries + 1) - (tries + 1)
         halved = np.arange(len(rows)) - np.repeat(first, tries + 1)
         h = tk.h[rows] * 0.5 ** halved
+        # a row is retried where a shorter one follows it, and a task that tries no halving
+        # (a crease, or a step already the shortest) is retried as in a single step
+        last = np.repeat(tries, tries + 1)
         st = trace_step(self.surface, tk.kind[rows], tk.p[rows], tk.t[rows], tk.ref[rows], h, self.tol,
                         settings.crease_angle, tk.last_n[rows], tk.pins[rows], (tk.team_a[rows], tk.team_b[rows]),
-                        retry[rows] & (halved < np.repeat(tries, tries + 1)))
+                        retry[rows] & ((halved < last) | (last == 0)))
         # each task's first try that holds, else its last
         ok_at = np.where(st.ok, halved, np.iinfo(np.int64).max)
         best = np.minimum.reduceat(ok_at, first)

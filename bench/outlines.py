@@ -29,6 +29,7 @@ import pure  # noqa: E402
 pure.install()
 import numpy as np  # noqa: E402
 from blobtree_ink import model as M  # noqa: E402
+from blobtree_ink.model.vectors import cross  # noqa: E402
 from blobtree_ink.agents import Session, Settings  # noqa: E402
 from blobtree_ink.agents.baseline import Baseline  # noqa: E402
 from blobtree_ink.agents.surface import Surface  # noqa: E402
@@ -52,9 +53,9 @@ class Camera:
         d /= np.linalg.norm(d)
         self.eye = self.c + 3.0 * r * d
         self.f = -d
-        self.right = np.cross(self.f, [0, 0, 1.0])
+        self.right = cross(self.f, [0, 0, 1.0])
         self.right /= np.linalg.norm(self.right)
-        self.up = np.cross(self.right, self.f)
+        self.up = cross(self.right, self.f)
         self.half = r / (3.0 * r) * 1.05             # tan of the half field of view
 
     def pixels(self, P):

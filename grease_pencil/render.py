@@ -8,6 +8,7 @@ import os
 import bpy
 import numpy as np
 
+from ..model.vectors import cross
 from . import svg
 from .writer import write_layer
 
@@ -66,6 +67,6 @@ def export_svg(obj, tmp, stipples, frame, nudge):
 
 def sideways(eye, centre, length):
     """A short step across the view (for a two-point stand-in of a dot)."""
-    d = np.cross(np.asarray(eye, float) - np.asarray(centre, float), [0.0, 0.0, 1.0])
+    d = cross(np.asarray(eye, float) - np.asarray(centre, float), [0.0, 0.0, 1.0])
     n = np.linalg.norm(d)
     return (d / n if n > 0 else np.array([1.0, 0.0, 0.0])) * length

@@ -3,10 +3,10 @@ import numpy as np
 
 
 def cross(a, b):
-    """a x b over the last axis of (..., 3) arrays, broadcast: np.cross's products and
-    differences, in the same order (the same values to the bit), at a third of its cost
-    on the small batches the agents' solvers step (its axis handling costs more than
-    the arithmetic)."""
+    """a x b over the last axis of (..., 3) arrays, broadcast, in float64: np.cross's
+    products and differences, in the same order (for float64 input the same values to
+    the bit), at a third of its cost on the small batches the agents' solvers step (its
+    axis handling costs more than the arithmetic)."""
     a, b = np.asarray(a, float), np.asarray(b, float)
     out = np.empty(np.broadcast_shapes(a.shape, b.shape))
     a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]

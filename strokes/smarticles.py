@@ -176,13 +176,7 @@ def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flo
                   headings=None if headings is None else np.asarray(headings, float)[todo])
         for k, p, n, r in zip(keys[todo].tolist(), got.paths, got.normals, got.reasons):
             paths[k] = (p, n, r)
-    out = Run()
-    for k in ids:
-        p, n, r = paths[k]
-        out.paths.append(p)
-        out.normals.append(n)
-        out.reasons.append(r)
-    return out
+    return kept(paths, keys)
 
 
 def kept(paths, keys):

@@ -85,7 +85,7 @@ def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
 def visible_runs(ev, P, sizes, eye, normals=None, min_points=2):
     """:func:`split_visible_many` of polylines given as their points one after the other
     (``P``, with their ``normals``) and their lengths (``sizes``)."""
-    return _runs(visible(ev, P, eye, normals), np.asarray(sizes), min_points)
+    return _runs(visible(ev, P, eye, normals), np.asarray(sizes, np.int64), min_points)
 
 
 def _runs(v, sizes, min_points):

@@ -55,16 +55,21 @@ def covered(a, b, tol):
 def test_every_few_frames_the_detail_phase_looks_everywhere():
     """Going on from the last frame while a part moves, the frames' detail phases look
     only where the field changed, but every REFRESH-th frame's everywhere (with the same
-    model the last frames' walks take their place: test_walks)."""
+    model the last frames' walks take their place: test_walks), whether the eye moves or
+    stays where it was: a small silhouette that an eye moved in an earlier frame brought
+    into view away from the moving part is found within REFRESH frames."""
     from blobtree_ink.agents import continuation as CT
-    prev, ages, afresh = session(pair(0.8), EYE).continuation(), [], []
-    for k in range(1, CT.REFRESH + 2):
-        s = session(pair(0.8 + 0.002 * k), turned(EYE, 0.01 * k), prev)
-        ages.append(s.carried.age)
-        afresh.append(s._changed_here(np.array([[-1.0, 0, 0]]))[0])       # the far side of the fixed sphere
-        prev = s.continuation()
-    assert ages == list(range(1, CT.REFRESH)) + [0, 1]
-    assert afresh == [False] * (CT.REFRESH - 1) + [True, False]
+    for turn in (0.01, 0.0):
+        prev, ages, afresh, static = session(pair(0.8), EYE).continuation(), [], [], []
+        for k in range(1, CT.REFRESH + 2):
+            s = session(pair(0.8 + 0.002 * k), turned(EYE, turn * k), prev)
+            ages.append(s.carried.age)
+            afresh.append(s._changed_here(np.array([[-1.0, 0, 0]]))[0])       # the far side of the fixed sphere
+            static.append(s._static)
+            prev = s.continuation()
+        assert ages == list(range(1, CT.REFRESH)) + [0, 1]
+        assert afresh == [False] * (CT.REFRESH - 1) + [True, False]
+        assert static == [turn == 0.0] * len(ages)
 
 
 def test_what_changed_between_two_models():

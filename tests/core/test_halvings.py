@@ -71,9 +71,9 @@ def test_a_few_tasks_try_every_halving_of_a_failed_step_at_once(load_example):
     # the step that holds is the point the task keeps, and its step grows from there
     before = s.traces.paths.of(tk.serial)[0][0]
     s.traces.step()
-    after = s.traces.paths.of(tk.serial)[0][0] if len(tk) else None
-    if after is not None:
-        assert len(after) == len(before) + 1 and tk.h[0] == min(tk.base[0], 1.5 * h)
+    assert len(tk) == 1                                   # this task goes on (no outline is near)
+    after = s.traces.paths.of(tk.serial)[0][0]
+    assert len(after) == len(before) + 1 and tk.h[0] == min(tk.base[0], 1.5 * h)
 
 
 def test_a_task_none_of_whose_halvings_holds_ends_at_once(load_example):
@@ -94,3 +94,22 @@ def test_many_tasks_halve_one_step_an_iteration(load_example, monkeypatch):
     first = tk.h[0]
     st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
     assert not st.ok[0] and retry[0] and tk.h[0] == first
+
+
+def test_a_crease_beside_halving_silhouettes_is_retried_as_alone(load_example, monkeypatch):
+    """In a batch with silhouettes trying their halvings, a crease task's step is still
+    one a failure of which is retried with half the step (not bracketed at once), as in
+    a step of its own: its row's retry flag is its own."""
+    seen = []
+
+    def spy(surface, kinds, *args):
+        tk = s.traces.table
+        if len(kinds) > len(tk) and (tk.kind[:len(tk)] == KIND_ID["crease"]).any():
+            own = (tk.h > tk.base * TS.SHORTEST)[tk.kind[:len(tk)] == KIND_ID["crease"]]
+            seen.append((args[-1][kinds == KIND_ID["crease"]], own))
+        return trace_step(surface, kinds, *args)
+    monkeypatch.setattr(TS, "trace_step", spy)
+    s = Session(load_example("jug"), View(eye=np.array([4.0, -6.0, 3.0])), Settings(resolution=16))
+    s.request("OUTLINES")
+    s.run()
+    assert seen and all(np.array_equal(got, own) for got, own in seen) and any(own.any() for _, own in seen)
