@@ -34,8 +34,14 @@ FEW = 48                # tracing tasks up to which a silhouette step tries all 
 CLOSE = 0.75            # a trace is back at its seed within this many full steps of it
 
 _V = ((3,), float)
+
 KEPT = -1000            # outline ids of the outlines kept from the last frame: KEPT, KEPT - 1, ...
 RETRY, KEEP, TURN, END, CLOSED = range(5)        # a task's fate after a step
+
+
+def halvable(h, base):
+    """Whether a failed step h (of a task whose full step is ``base``) is retried halved."""
+    return h > base * SHORTEST
 
 
 class Traces:
@@ -218,9 +224,8 @@ class Traces:
         if not tk:
             return []
         m = len(tk)
-        kinds, h, base = tk.kind, tk.h, tk.base
-        retry = h > base * SHORTEST            # a failed step may still be halved
-        st, retry = self._trace_step(retry)
+        kinds, base = tk.kind, tk.base
+        st, retry = self._trace_step()
         X, n, Tn, refn, ok = st.X, st.n, st.T, st.ref, st.ok
         side_seeds = self._off_creases(X, st, ok)
         rows = self.board.add_samples(X, st.f, st.g, "path")
@@ -288,20 +293,21 @@ class Traces:
             self.board.add_features(0.5 * (a + b), a, b, "silhouette", cell)
         return [rows]
 
-    def _trace_step(self, retry):
+    def _trace_step(self):
         """Every task's trace step (tracer.trace_step), and which failed ones may still
-        be retried with a halved step. With at most FEW tasks, a silhouette task tries its
+        be retried with a halved step (:func:`halvable`). With at most FEW tasks, a silhouette task tries its
         step and every halving of it down to SHORTEST in one batch and goes on with the
         longest that holds (its step is that one's): the points a step and its retries
         in later iterations would find, without an iteration per retry (a trace crawling
         round a tight turn, or ending at a crease, takes one iteration a step, not five)."""
         tk, settings = self.table, self.settings
         m = len(tk)
+        retry = halvable(tk.h, tk.base)
         tries = np.zeros(m, np.int64)
         if m <= FEW:
             # a silhouette step's halvings: as many as the retries its failures would take
             h = np.where(tk.kind == KIND_ID["silhouette"], tk.h, 0.0)
-            while (more := h > tk.base * SHORTEST).any():
+            while (more := halvable(h, tk.base)).any():
                 tries += more
                 h = np.where(more, 0.5 * h, 0.0)
         if not tries.any():

@@ -19,7 +19,7 @@ def alone(s, r, h):
     row = slice(r, r + 1)
     return trace_step(s.surface, tk.kind[row], tk.p[row], tk.t[row], tk.ref[row], np.array([h]), s.tol,
                       s.settings.crease_angle, tk.last_n[row], tk.pins[row], (tk.team_a[row], tk.team_b[row]),
-                      np.array([h > tk.base[r] * TS.SHORTEST]))
+                      np.array([TS.halvable(h, tk.base[r])]))
 
 
 def halvings(s, r):
@@ -27,7 +27,7 @@ def halvings(s, r):
     SHORTEST of its full step, then once more."""
     tk = s.traces.table
     h, out = tk.h[r], [tk.h[r]]
-    while h > tk.base[r] * TS.SHORTEST:
+    while TS.halvable(h, tk.base[r]):
         h *= 0.5
         out.append(h)
     return out
@@ -64,7 +64,7 @@ def test_a_few_tasks_try_every_halving_of_a_failed_step_at_once(load_example):
     want = alone(s, r, h)
     only(s, r)
     tk = s.traces.table
-    st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
+    st, retry = s.traces._trace_step()
     assert st.ok[0] and tk.h[0] == h and not retry[0]
     np.testing.assert_array_equal(st.X, want.X)
     np.testing.assert_array_equal(st.n, want.n)
@@ -80,7 +80,7 @@ def test_a_task_none_of_whose_halvings_holds_ends_at_once(load_example):
     s, r, _ = a_failing_task(load_example, holds=False)
     only(s, r)
     tk = s.traces.table
-    st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
+    st, retry = s.traces._trace_step()
     assert not st.ok[0] and not retry[0]
     s.traces.step()
     assert len(s.traces.table) == 0                       # lost: not retried in the next iteration
@@ -92,7 +92,7 @@ def test_many_tasks_halve_one_step_an_iteration(load_example, monkeypatch):
     only(s, r)
     tk = s.traces.table
     first = tk.h[0]
-    st, retry = s.traces._trace_step(tk.h > tk.base * TS.SHORTEST)
+    st, retry = s.traces._trace_step()
     assert not st.ok[0] and retry[0] and tk.h[0] == first
 
 
@@ -105,7 +105,7 @@ def test_a_crease_beside_halving_silhouettes_is_retried_as_alone(load_example, m
     def spy(surface, kinds, *args):
         tk = s.traces.table
         if len(kinds) > len(tk) and (tk.kind[:len(tk)] == KIND_ID["crease"]).any():
-            own = (tk.h > tk.base * TS.SHORTEST)[tk.kind[:len(tk)] == KIND_ID["crease"]]
+            own = TS.halvable(tk.h, tk.base)[tk.kind[:len(tk)] == KIND_ID["crease"]]
             seen.append((args[-1][kinds == KIND_ID["crease"]], own))
         return trace_step(surface, kinds, *args)
     monkeypatch.setattr(TS, "trace_step", spy)
