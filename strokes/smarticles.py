@@ -78,9 +78,10 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
     start_n = N.copy()
     start_sign = np.sign(c["mean"])
     alive = on_surface(f, ev.iso, NEAR_SURFACE)        # a start that did not reach the surface draws nothing
-    paths = [[P[i].copy()] if alive[i] else [] for i in range(n)]
-    norms = [[N[i].copy()] if alive[i] else [] for i in range(n)]
-    reasons = ["" if a else "lost surface" for a in alive]
+    # the points (and normals) kept, a batch a step: whose they are, in step order
+    first = np.flatnonzero(alive)
+    owner, points, normals = [first], [P[first]], [N[first]]
+    reasons = np.where(alive, "", "lost surface").astype(object)
     lengths = np.zeros(n)
     sep_r = separation_radius if separation_radius is not None else 2 * step
     for k in range(rules.max_steps):
@@ -138,22 +139,23 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
         m = ~on_surface(fq, ev.iso, NEAR_SURFACE) & ~stop
         stop |= m
         why[m] = "lost surface"
-        for j, i in enumerate(idx):
-            if stop[j]:
-                alive[i] = False           # the terminating point is not included
-                reasons[i] = why[j]
-            else:
-                paths[i].append(newp[j])
-                norms[i].append(nq[j])
+        ended = idx[stop]
+        alive[ended] = False               # the terminating point is not included
+        reasons[ended] = why[stop]
         go = idx[~stop]
+        owner.append(go)
+        points.append(newp[~stop])
+        normals.append(nq[~stop])
         P[go], V[go], N[go] = newp[~stop], st.tangent(newv[~stop], nq[~stop]), nq[~stop]
         lengths[go] += seg[~stop]
         for key in CARRIED:
             c[key][go] = cq[key][~stop]
-    for i in range(n):
-        out.paths.append(np.array(paths[i]).reshape(-1, 3))
-        out.normals.append(np.array(norms[i]).reshape(-1, 3))
-        out.reasons.append(reasons[i] or "steps")
+    owner = np.concatenate(owner)
+    order = np.argsort(owner, kind="stable")    # path by path, each in step order
+    at = np.cumsum(np.bincount(owner, minlength=n))[:-1]
+    out.paths = np.split(np.concatenate(points)[order], at)
+    out.normals = np.split(np.concatenate(normals)[order], at)
+    out.reasons = [r or "steps" for r in reasons.tolist()]
     return out
 
 
