@@ -22,17 +22,17 @@ def released():
 
 def test_the_threaded_run_equals_the_plain_run(load_example):
     plain = PL.Illustration(job_for(load_example, "torus", "hatched")).run()
-    seen = []
+    RN.HOLD.arm(3)                                               # held after its third step
     r = RN.Runner(PL.Illustration(job_for(load_example, "torus", "hatched"))).start()
-    while not r.finished:
-        res = r.latest()
-        if res is not None:
-            seen.append(res.progress.fraction)
-    r.join()
+    assert RN.HOLD.reached.wait(120)
+    mid = r.latest()                                             # figures come while it runs
+    assert not mid.done and 0 < mid.progress.fraction < 1
+    RN.HOLD.release()
+    r.join(120)
     r.check()
     got = r.latest()
     assert got.done and not got.stopped and got.progress.fraction == 1.0
-    assert len(set(seen)) > 3                                    # figures came while it ran
+    assert got.progress.fraction > mid.progress.fraction
     same_strokes(plain.strokes, got.strokes)
     assert got.strokes.count("Hatching") > 10 and got.strokes.count("Silhouette") > 0
 
