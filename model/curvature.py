@@ -68,7 +68,9 @@ def along_values(f, g, L, h):
 
 
 def curvature(ev, P, grad=None):
-    """Dict of per-point arrays: normal, k1 >= k2, mean, gauss, dir1, dir2 (unit)."""
+    """Dict of per-point arrays: normal, k1 >= k2, mean, gauss, dir1, dir2 (unit).
+    The shape operator in a tangent basis (e1, e2) is a symmetric 2x2 matrix
+    [[a, b], [b, c]]; its eigenvalues and eigenvectors are taken in closed form."""
     P = as_points(P)
     if grad is None:
         _, grad = ev.field_grad(P)
@@ -76,27 +78,42 @@ def curvature(ev, P, grad=None):
     gn = np.linalg.norm(grad, axis=1)
     safe = np.where(gn > 0, gn, 1.0)
     nrm = -grad / safe[:, None]
-    Pm = np.eye(3)[None] - nrm[:, :, None] * nrm[:, None, :]
-    S = -(Pm @ H @ Pm) / safe[:, None, None]
-    w, v = np.linalg.eigh(S)
-    # drop the eigenvector along the normal, keep the two tangent ones
-    along = np.abs(np.einsum("nik,ni->nk", v, nrm))
-    drop = np.argmax(along, axis=1)
-    keep = np.array([[1, 2], [0, 2], [0, 1]])[drop]
-    rows = np.arange(len(P))[:, None]
-    kw = w[rows, keep]
-    idx = np.arange(len(P))
-    kv = np.stack([v[idx, :, keep[:, 0]], v[idx, :, keep[:, 1]]], axis=1)   # (n, 2, 3)
-    order = np.argsort(-kw, axis=1)
-    k1 = kw[rows[:, 0], order[:, 0]]
-    k2 = kw[rows[:, 0], order[:, 1]]
-    d1 = kv[idx, order[:, 0]]
+    e1, e2 = tangent_basis(nrm)
+    He1, He2 = np.einsum("nij,nj->ni", H, e1), np.einsum("nij,nj->ni", H, e2)
+    a = -np.einsum("ni,ni->n", e1, He1) / safe
+    b = -0.5 * (np.einsum("ni,ni->n", e2, He1) + np.einsum("ni,ni->n", e1, He2)) / safe
+    c = -np.einsum("ni,ni->n", e2, He2) / safe
+    half = 0.5 * (a - c)
+    r = np.hypot(half, b)
+    k1, k2 = 0.5 * (a + c) + r, 0.5 * (a + c) - r
+    # k1's eigenvector, written the way that does not cancel: (r + half, b) or (b, r - half)
+    big = half >= 0
+    x = np.where(big, r + half, b)
+    y = np.where(big, b, r - half)
+    d1 = x[:, None] * e1 + y[:, None] * e2
+    length = np.linalg.norm(d1, axis=1)
+    umbilic = ~(length > 0)                               # every direction is principal: e1
+    d1 = np.where(umbilic[:, None], e1, d1 / np.where(umbilic, 1.0, length)[:, None])
     d2 = cross(nrm, d1)
     bad = gn == 0
-    for a in (k1, k2):
-        a[bad] = np.nan
+    for v in (k1, k2):
+        v[bad] = np.nan
     return {"normal": nrm, "k1": k1, "k2": k2, "mean": 0.5 * (k1 + k2), "gauss": k1 * k2,
             "dir1": d1, "dir2": d2, "grad_norm": gn}
+
+
+def tangent_basis(n):
+    """Unit vectors e1, e2 with (e1, e2, n) right-handed and orthonormal, for unit
+    normals n (n, 3); e1 is across the axis least aligned with n (a zero normal
+    gets the x and y axes)."""
+    axis = np.zeros_like(n)
+    axis[np.arange(len(n)), np.argmin(np.abs(n), axis=1)] = 1.0
+    e1 = cross(axis, n)
+    length = np.linalg.norm(e1, axis=1)
+    zero = ~(length > 0)
+    e1 = np.where(zero[:, None], [1.0, 0.0, 0.0], e1 / np.where(zero, 1.0, length)[:, None])
+    e2 = np.where(zero[:, None], [0.0, 1.0, 0.0], cross(n, e1))
+    return e1, e2
 
 
 def radial(c, towards_eye):

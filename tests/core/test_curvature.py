@@ -4,6 +4,9 @@ import math
 import numpy as np
 
 from blobtree_ink import model as M
+from blobtree_ink.model.curvature import tangent_basis
+from blobtree_ink.model.projection import project
+from blobtree_ink.model.vectors import cross
 
 KISO = math.sqrt(1 - 0.5 ** (1 / 3))
 
@@ -104,3 +107,44 @@ def test_hessian_along_directions_for_newton_steps():
         assert err.max() < 10 * step                       # first order in the step
         assert 0.1 * step < err.max()                      # (not exact: a difference)
     np.testing.assert_array_equal(Hd[1][1::2], 0.0)        # zero directions
+
+
+def test_closed_form_is_the_shape_operators_eigensystem():
+    """The 2x2 closed form gives what a general symmetric eigensolver gives for the
+    tangent part of -H/|g|: the principal curvatures to rounding, dir1 along its
+    eigenvector, (dir1, dir2, normal) right-handed; on a blend with a bend, where the
+    principal directions are nowhere aligned with the axes."""
+    ev = ev_of({"type": "bend", "rate": 0.3, "child": {"type": "blend", "children": [
+        {"type": "segment", "a": [-1.0, 0.0, 0.0], "b": [1.0, 0.3, 0.2], "radius": 1.0},
+        {"type": "point", "center": [0.9, 0.5, 0.4], "radius": 1.1}]}})
+    P, f, _ = project(ev, 1.5 * unit_dirs(2000, seed=3), 12)
+    P = P[np.abs(f - ev.iso) < 1e-9]
+    c = M.curvature(ev, P)
+    _, g = ev.field_grad(P)
+    n = -g / np.linalg.norm(g, axis=1)[:, None]
+    Pm = np.eye(3)[None] - n[:, :, None] * n[:, None, :]
+    S = -(Pm @ M.hessian(ev, P) @ Pm) / np.linalg.norm(g, axis=1)[:, None, None]
+    w, v = np.linalg.eigh(S)
+    tangent = np.argsort(np.abs(np.einsum("nik,ni->nk", v, n)), axis=1)[:, :2]     # drop the normal's
+    rows = np.arange(len(P))[:, None]
+    kw = w[rows, tangent]
+    first = np.argmax(kw, axis=1)
+    scale = np.abs(kw).max(axis=1)
+    np.testing.assert_allclose(c["k1"], kw.max(axis=1), atol=1e-12 * scale.max())
+    np.testing.assert_allclose(c["k2"], kw.min(axis=1), atol=1e-12 * scale.max())
+    d1 = v[np.arange(len(P)), :, tangent[np.arange(len(P)), first]]
+    apart = (kw.max(axis=1) - kw.min(axis=1)) > 1e-6 * scale
+    assert len(P) > 300 and apart.mean() > 0.9
+    np.testing.assert_allclose(np.abs(np.einsum("ij,ij->i", c["dir1"], d1))[apart], 1.0, atol=1e-9)
+    np.testing.assert_allclose(np.einsum("ij,ij->i", cross(c["dir1"], c["dir2"]), c["normal"]), 1.0,
+                               atol=1e-12)
+
+
+def test_tangent_basis_is_orthonormal_for_any_normal():
+    n = np.vstack([unit_dirs(500, seed=5), np.eye(3), -np.eye(3), [[0.0, 0.0, 0.0]]])
+    e1, e2 = tangent_basis(n)
+    for e in (e1, e2):
+        np.testing.assert_allclose(np.linalg.norm(e, axis=1), 1.0, atol=1e-15)
+        assert np.abs(np.einsum("ij,ij->i", e, n)).max() < 1e-15
+    assert np.abs(np.einsum("ij,ij->i", e1, e2)).max() < 1e-15
+    np.testing.assert_allclose(np.einsum("ij,ij->i", cross(e1, e2), n)[:-1], 1.0, atol=1e-15)
