@@ -152,9 +152,11 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
             c[key][go] = cq[key][~stop]
     owner = np.concatenate(owner)
     order = np.argsort(owner, kind="stable")    # path by path, each in step order
-    at = np.cumsum(np.bincount(owner, minlength=n))[:-1]
-    out.paths = np.split(np.concatenate(points)[order], at)
-    out.normals = np.split(np.concatenate(normals)[order], at)
+    ends = np.cumsum(np.bincount(owner, minlength=n)).tolist()
+    spans = list(zip([0] + ends[:-1], ends))
+    P, N = np.concatenate(points)[order], np.concatenate(normals)[order]
+    out.paths = [P[a:b] for a, b in spans]
+    out.normals = [N[a:b] for a, b in spans]
     out.reasons = [r or "steps" for r in reasons.tolist()]
     return out
 
