@@ -58,8 +58,10 @@ def visible(ev, P, eye, normals=None, step=None, offset=None):
         b = int(np.clip(MARCH_BATCH // len(live), 1, MAX_AHEAD))
         t = t0[live, None] + ((k + np.arange(b))[None, :] * step) / length[live, None]      # (m, b)
         inside = t <= t1[live, None]
-        f = ev.field((start[live, None, :] + t[:, :, None] * D[live, None, :]).reshape(-1, 3)).reshape(t.shape)
-        hit = (f >= ev.iso) & inside
+        # the samples past a ray's end (its last call's tail) are not evaluated
+        f = np.full(t.shape, -np.inf)
+        f[inside] = ev.field((start[live, None, :] + t[:, :, None] * D[live, None, :])[inside])
+        hit = f >= ev.iso
         vis[live[hit.any(axis=1)]] = False
         live = live[~hit.any(axis=1) & inside[:, -1]]
         k += b

@@ -64,3 +64,32 @@ def test_stroke_set_from_outlines():
     assert s.count("Silhouette") == 1 and s.count("Crease") == 1 and s.count() == 2
     st = s.layers["Silhouette"][0]
     assert st.cyclic and np.all(st.radius == 0.01) and np.all(st.opacity == 1.0)
+
+
+def test_only_samples_inside_the_surface_box_are_evaluated():
+    """A ray is marched from its point to where it leaves the surface's box: the samples
+    a batch would take past that end are not evaluated (and the verdicts are those of
+    marching every ray to its end)."""
+    from blobtree_ink.blackboard.polygonise import surface_box
+    ev = two_balls()
+    lo, hi = surface_box(ev)
+    seen = []
+
+    class Counting:
+        scale, iso, memo, bounds = ev.scale, ev.iso, ev.memo, ev.bounds
+
+        def field(self, P):
+            seen.append(np.array(P))
+            return ev.field(P)
+
+    rng = np.random.default_rng(4)
+    d = rng.normal(size=(300, 3))
+    P = 0.4543 * d / np.linalg.norm(d, axis=1)[:, None] + np.where(rng.random((300, 1)) < 0.5, 0.0, [[0, 3, 0]])
+    eye = np.array([0.5, -10.0, 0.3])
+    v = visible(Counting(), P, eye, normals=d / np.linalg.norm(d, axis=1)[:, None])
+    S = np.concatenate(seen)
+    pad = 1e-9 * ev.scale
+    assert len(S) and np.all((S >= lo - pad) & (S <= hi + pad))
+    np.testing.assert_array_equal(v, [visible(ev, p[None], eye, normals=n[None] / np.linalg.norm(n))[0]
+                                      for p, n in zip(P, d)])
+    assert 0 < v.sum() < len(v)
