@@ -63,7 +63,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         tree = bpy.data.node_groups.get(self.tree_key)
         if tree is None:
             raise FR.FrameError(f"frame {frame}: the BlobTree '{self.tree_key}' is gone")
-        FR.check_followed(tree, self.followed, frame)
+        FR.check_followed(tree, self.followed, frame, self.scene)
         try:
             return FR.frame_job(tree, self.scene)
         except (TreeError, DriverError) as e:

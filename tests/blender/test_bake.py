@@ -123,6 +123,30 @@ def test_a_deleted_driving_object_is_named(ext, example):
     assert mod(ext, "operators.frames").drawn_frames(tree) == {1, 2}
 
 
+def test_a_driving_object_deleted_in_the_viewport_is_named(ext, example):
+    """Delete in the viewport unlinks the object from the scene; the node still points to
+    it, so it stays in bpy.data (in no scene, its animation no longer evaluated): the bake
+    names it and the node by its label, and keeps the frames before."""
+    tree, empty = moving_spheres(example)
+    follower = next(n for n in tree.nodes if getattr(n, "center_object", None) is empty)
+    follower.label = "left lobe"
+    state = {}
+
+    def delete_at_frame_3(scene, *_):
+        if scene.frame_current == 3 and not state:
+            state["deleted"] = True
+            for coll in list(empty.users_collection):
+                coll.objects.unlink(empty)
+    bpy.app.handlers.frame_change_pre.append(delete_at_frame_3)
+    try:
+        with pytest.raises(RuntimeError, match="frame 3: the object 'Driver' that node 'left lobe' follows was deleted"):
+            bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4)
+    finally:
+        bpy.app.handlers.frame_change_pre.remove(delete_at_frame_3)
+    assert "Driver" in bpy.data.objects and follower.center_object is empty
+    assert mod(ext, "operators.frames").drawn_frames(tree) == {1, 2}
+
+
 def test_an_animation_render_illustrates_each_frame_as_the_bake_does(ext, example, tmp_path):
     """Render Animation (what `blender -b file.blend -a` runs) illustrates every frame the
     ink has no drawing of before rendering it: the images differ from frame to frame, and
