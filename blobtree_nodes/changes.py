@@ -1,6 +1,8 @@
 """Changes of BlobTree node trees, debounced: a change schedules the tree's preview to
 be rebuilt once changes have stopped for DELAY seconds (a timer; never on every step
-of a slider drag or every frame of playback). An artist's edit is also counted: a
+of a slider drag or every frame of playback), and at the latest MAX_WAIT seconds after
+the first change it has not shown (so the preview keeps up with playback and long
+drags, a rebuild every MAX_WAIT seconds). An artist's edit is also counted: a
 running illustration stops when its tree's edit count moves. A move (the animation
 written at a new frame, a followed object moving: :func:`moving`) is not an edit. The
 state is module state keyed by tree name (not stored on Blender data or on Python
@@ -12,8 +14,11 @@ import time
 import bpy
 
 DELAY = 0.35                     # seconds of quiet before a rebuild
+MAX_WAIT = 1.0                   # seconds from a first change to its rebuild, at most, however many follow
 
+_clock = time.monotonic         # the time changes are stamped with (tests replace it)
 _pending = {}                    # tree name -> monotonic time the rebuild is due
+_since = {}                      # tree name -> monotonic time of the first change the rebuild will show
 _edits = {}                      # tree name -> number of edits seen (a running illustration stops on change)
 _rebuild = []                    # what a due tree goes to: preview.rebuild, set when it registers
 
@@ -57,7 +62,10 @@ def schedule(tree, delay=DELAY, edit=True):
         return
     if edit and not _moves:
         _edits[tree.name] = _edits.get(tree.name, 0) + 1
-    _pending[tree.name] = time.monotonic() + delay
+    now = _clock()
+    if tree.name not in _pending:
+        _since[tree.name] = now
+    _pending[tree.name] = min(now + delay, _since[tree.name] + MAX_WAIT)
     if not bpy.app.timers.is_registered(_tick):
         bpy.app.timers.register(_tick, first_interval=delay)
 
@@ -67,7 +75,7 @@ def pending():
 
 
 def _tick():
-    now = time.monotonic()
+    now = _clock()
     run_due(now)
     if not _pending:
         return None
@@ -76,12 +84,13 @@ def _tick():
 
 def run_due(now=None):
     """Rebuild every preview whose quiet period is over; returns the trees rebuilt."""
-    now = time.monotonic() if now is None else now
+    now = _clock() if now is None else now
     done = []
     for name, due in list(_pending.items()):
         if due > now:
             continue
         del _pending[name]
+        _since.pop(name, None)
         tree = bpy.data.node_groups.get(name)
         if tree is not None and tree.bl_idname == "BlobTreeInkNodeTree" and _rebuild:
             if _rebuild[0](tree):
@@ -97,6 +106,7 @@ def on_due(rebuild):
 def forget():
     """Another file was loaded: its trees may have the old file's names."""
     _pending.clear()
+    _since.clear()
     _edits.clear()
 
 
@@ -104,3 +114,4 @@ def stop():
     if bpy.app.timers.is_registered(_tick):
         bpy.app.timers.unregister(_tick)
     _pending.clear()
+    _since.clear()

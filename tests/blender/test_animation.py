@@ -1,6 +1,7 @@
 """Models that move: keyframed and driven node values, and objects the nodes follow
 (with their parents and constraints), at the scene's frame; the preview follows."""
 import bpy
+
 import numpy as np
 import pytest
 
@@ -89,6 +90,40 @@ def test_the_preview_follows_a_driving_empty_across_a_frame_change(ext, example)
     empty.location.y = 1.0                                        # dragging it (no frame change)
     bpy.context.view_layer.update()
     assert tree.name in changes.pending()
+
+
+def test_the_preview_keeps_up_with_playback(ext, example, monkeypatch):
+    """Every frame of playback is a change and pushes the quiet period back, but a
+    rebuild comes due at most MAX_WAIT after the first change it has not shown (the
+    changes' clock is a fake one: frames an eighth of a second apart)."""
+    changes = mod(ext, "blobtree_nodes.changes")
+    tree, a, b = two_spheres(example)
+    sc = bpy.context.scene
+    empty = bpy.data.objects.new("Driver", None)
+    sc.collection.objects.link(empty)
+    b.center_object = empty
+    for frame, x in ((1, 0.0), (21, 3.0)):
+        empty.location = (x, 0.0, 0.0)
+        empty.keyframe_insert("location", frame=frame)
+    sc.frame_set(1)
+    changes.run_due(float("inf"))
+    x1 = max(v.co.x for v in tree.preview_object.data.vertices)
+    now = [100.0]
+    monkeypatch.setattr(changes, "_clock", lambda: now[0])
+    sc.frame_set(2)                                              # playback's first frame
+    assert changes.pending()[tree.name] == 100.0 + changes.DELAY
+    for f in range(3, 21):                                       # the next frames come faster than the quiet period
+        now[0] += 0.125
+        sc.frame_set(f)
+        assert changes.run_due() == ([tree.name] if now[0] >= 100.0 + changes.MAX_WAIT else [])
+        if tree.name not in changes.pending():
+            break
+    assert now[0] == 100.0 + changes.MAX_WAIT                    # rebuilt once the longest wait was up
+    x = max(v.co.x for v in tree.preview_object.data.vertices)
+    assert x == pytest.approx(x1 + 3.0 * (f - 1) / 20, abs=0.1)  # the preview shows that frame
+    now[0] += 0.125
+    sc.frame_set(f + 1)                                          # the next change starts a new wait
+    assert changes.pending()[tree.name] == pytest.approx(now[0] + changes.DELAY)
 
 
 def test_exporting_writes_the_model_as_it_is_at_the_current_frame(ext, example, tmp_path):
