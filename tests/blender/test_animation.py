@@ -4,6 +4,7 @@ import bpy
 
 import numpy as np
 import pytest
+from moving_scene import moving_spheres
 
 
 def mod(ext, name):
@@ -97,14 +98,10 @@ def test_the_preview_keeps_up_with_playback(ext, example, monkeypatch):
     rebuild comes due at most MAX_WAIT after the first change it has not shown (the
     changes' clock is a fake one: frames an eighth of a second apart)."""
     changes = mod(ext, "blobtree_nodes.changes")
-    tree, a, b = two_spheres(example)
+    tree, empty = moving_spheres(example)                        # the Empty keyed x = 0 at frame 1, 2 at frame 5
+    empty.location = (6.0, 0.0, 0.0)
+    empty.keyframe_insert("location", frame=21)                  # ... and on to 6 at frame 21: it moves every frame
     sc = bpy.context.scene
-    empty = bpy.data.objects.new("Driver", None)
-    sc.collection.objects.link(empty)
-    b.center_object = empty
-    for frame, x in ((1, 0.0), (21, 3.0)):
-        empty.location = (x, 0.0, 0.0)
-        empty.keyframe_insert("location", frame=frame)
     sc.frame_set(1)
     changes.run_due(float("inf"))
     x1 = max(v.co.x for v in tree.preview_object.data.vertices)
@@ -120,7 +117,7 @@ def test_the_preview_keeps_up_with_playback(ext, example, monkeypatch):
             break
     assert now[0] == 100.0 + changes.MAX_WAIT                    # rebuilt once the longest wait was up
     x = max(v.co.x for v in tree.preview_object.data.vertices)
-    assert x == pytest.approx(x1 + 3.0 * (f - 1) / 20, abs=0.1)  # the preview shows that frame
+    assert x == pytest.approx(x1 + empty.matrix_world.translation.x, abs=0.1)     # the preview shows that frame
     now[0] += 0.125
     sc.frame_set(f + 1)                                          # the next change starts a new wait
     assert changes.pending()[tree.name] == pytest.approx(now[0] + changes.DELAY)
