@@ -45,6 +45,11 @@ def _draw_tree(layout, tree):
     if s.region == "CURSOR":
         col.prop(s, "region_size")
     col = layout.column(align=True)
+    row = col.row(align=True)
+    row.prop(tree, "show_preview")                 # off: the mesh goes, and the ink is seen alone
+    res = row.row(align=True)
+    res.active = tree.show_preview
+    res.prop(tree, "preview_resolution", text="")
     col.prop(s, "paper")
     col.prop(s, "render_preview")
 

@@ -29,6 +29,9 @@ class Layout:
     def split(self, **kw):
         return self._sub("split")
 
+    def grid_flow(self, **kw):
+        return self._sub("grid_flow")
+
     def prop(self, data, prop, text=None, placeholder="", **kw):
         self.items.append(dict(kind="prop", path=self.path, data=data, prop=prop, text=text,
                                placeholder=placeholder, alert=self.alert))

@@ -149,3 +149,27 @@ def test_exporting_writes_the_model_as_it_is_at_the_current_frame(ext, example, 
         want_r = {1: 1.0, 11: 2.0, 21: 3.0}[frame]
         want_x = {1: 0.0, 11: 2.0, 21: 4.0}[frame]
         assert radius == pytest.approx(want_r, abs=1e-5) and centre[0] == pytest.approx(want_x, abs=1e-5), frame
+
+
+def test_the_sidebar_switches_the_preview_off_and_on(ext, example):
+    """The 3D sidebar draws the tree's Live Preview toggle (with its resolution, inactive
+    while it is off): switched off, the preview mesh goes and the ink is seen alone;
+    switched on, it comes back."""
+    from types import SimpleNamespace
+
+    from recording_layout import Layout
+    changes = mod(ext, "blobtree_nodes.changes")
+    tree, a, b = two_spheres(example)
+    changes.run_due(float("inf"))
+    assert tree.preview_object is not None
+    panel = mod(ext, "operators.panels").VIEW3D_PT_blobtree_ink
+    rec = Layout()
+    panel.draw(SimpleNamespace(layout=rec), bpy.context)
+    drawn = {(i["data"], i["prop"]): i for i in rec.of("prop")}
+    assert (tree, "show_preview") in drawn and (tree, "preview_resolution") in drawn
+    tree.show_preview = False                                    # the artist's click
+    changes.run_due(float("inf"))
+    assert tree.preview_object is None and not [o for o in bpy.data.objects if o.name.startswith("two_spheres Preview")]
+    tree.show_preview = True
+    changes.run_due(float("inf"))
+    assert tree.preview_object is not None and len(tree.preview_object.data.vertices) > 100
