@@ -34,9 +34,11 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
     bl_options = {"REGISTER", "UNDO"}
 
     tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
-    frame_start: bpy.props.IntProperty(name="Start", default=1,
+    # unset, each call takes the tree's bake range (never the last call's); once resolved
+    # they hold the range baked, which Adjust Last Operation shows and bakes again
+    frame_start: bpy.props.IntProperty(name="Start", default=1, options={"SKIP_SAVE"},
                                        description="First frame to bake (unset: the tree's bake range)")
-    frame_end: bpy.props.IntProperty(name="End", default=250,
+    frame_end: bpy.props.IntProperty(name="End", default=250, options={"SKIP_SAVE"},
                                      description="Last frame to bake (unset: the tree's bake range)")
 
     def _start(self, context):
@@ -48,6 +50,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         if self.properties.is_property_set("frame_end"):
             end = self.frame_end
         self.frames = list(FR.frame_range(start, end))
+        self.frame_start, self.frame_end = start, end
         jobs.on_paper(context, tree)
         self.followed = FR.followed_objects(bpy.data.node_groups[self.tree_key])
         self.scene = context.scene

@@ -315,8 +315,8 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
 def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     """Issue #29 in the real UI (tests/real/ui/bake.py): Bake Frames from menu search
     bakes the scene's range; Esc while frame 3 is under way keeps frames 1 and 2; the
-    whole range baked, the Right arrow steps the timeline and the viewport shows each
-    frame's own drawing; Ctrl+Z undoes a bake as one step (and Ctrl+Shift+Z redoes it);
+    whole range baked (Adjust Last Operation showing that range), the Right arrow steps
+    the timeline and the viewport shows each frame's own drawing; Ctrl+Z undoes a bake as one step (and Ctrl+Shift+Z redoes it);
     Clear Frames clears them."""
     out, facts = run_ui_script("bake.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
@@ -324,6 +324,7 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     assert facts["stopped_state"] == "stopped" and facts["stopped_frames"] == [1, 2]
     assert facts["frame_after_stop"] == 1                                   # back where the artist was
     assert facts["full_state"] == "done" and facts["full_frames"] == [1, 2, 3, 4, 5, 6]
+    assert facts["last_operator"] == "BLOBTREE_INK_OT_bake" and facts["last_range"] == [1, 6]
     right = [facts["silhouette_right"][str(f)] for f in range(1, 7)]
     assert right == sorted(right) and right[-1] > right[0] + 1.5            # following the Empty
     assert facts["frames_seen"] == [1, 2, 3, 4, 5, 6]

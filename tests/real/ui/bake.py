@@ -9,7 +9,7 @@ set-up (and why) is marked [Python].
    over the viewport, F3, "bake frames", Return (Object > BlobTree Ink > Bake Frames:
    the tree's bake range, the scene's). When frame 3's worker holds: a screenshot,
    Escape. The bake stops with frames 1 and 2 kept; the timeline is back on frame 1.
-3. F3 "bake frames" again: all six frames.
+3. F3 "bake frames" again: all six frames; Adjust Last Operation holds the range baked.
 4. Ctrl+Z: the second bake is undone as one step (frames 1 and 2 again); Ctrl+Shift+Z
    redoes it.
 5. Alt+A (the preview's selection outline would lie over the silhouettes); Right arrow
@@ -95,7 +95,9 @@ def run():
     ink = bpy.data.objects[f"{tree.name} Ink"]
     right = {f: max((float((ink.matrix_world @ Vector(p)).x) for s in drawing_of(ink, "Silhouette", f) for p in s),
                     default=None) for f in range(1, 7)}
-    record(full_state=bake.last_bake["state"], full_frames=drawn(tree), silhouette_right=right)
+    last = bpy.context.window_manager.operators[-1]      # what Adjust Last Operation shows
+    record(full_state=bake.last_bake["state"], full_frames=drawn(tree), silhouette_right=right,
+           last_operator=last.bl_idname, last_range=[last.properties.frame_start, last.properties.frame_end])
 
     # --- 4. undo: the second bake goes as one step; redo brings it back -----------------------
     x, y = screen_xy(win, vregion, vregion.width / 2, vregion.height / 2)
