@@ -96,17 +96,26 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         except ERRORS as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        for frame in self.frames:
-            try:
-                job, _ = self._job(frame)
-                ill = PL.Illustration(job, previous=self.previous, remember=True)
-                result = ill.run()
-                self.previous = ill.continuation()
-            except ERRORS as e:
-                error = e if isinstance(e, FR.FrameError) else FR.FrameError(f"frame {frame}: {e}")
-                return self._finish("failed", error)
-            self._write(frame, result)
-        return self._finish("done")
+        wm = None if bpy.app.background else context.window_manager     # a redo in the UI: the cursor's counter
+        if wm is not None:
+            wm.progress_begin(0, len(self.frames))
+        try:
+            for k, frame in enumerate(self.frames):
+                try:
+                    job, _ = self._job(frame)
+                    ill = PL.Illustration(job, previous=self.previous, remember=True)
+                    result = ill.run()
+                    self.previous = ill.continuation()
+                except ERRORS as e:
+                    error = e if isinstance(e, FR.FrameError) else FR.FrameError(f"frame {frame}: {e}")
+                    return self._finish("failed", error)
+                self._write(frame, result)
+                if wm is not None:
+                    wm.progress_update(k + 1)
+            return self._finish("done")
+        finally:
+            if wm is not None:
+                wm.progress_end()
 
     # --- the UI: each frame's pipeline on a worker, a timer showing the progress ---------
     def invoke(self, context, event):

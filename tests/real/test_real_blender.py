@@ -325,6 +325,7 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     assert facts["frame_after_stop"] == 1                                   # back where the artist was
     assert facts["full_state"] == "done" and facts["full_frames"] == [1, 2, 3, 4, 5, 6]
     assert facts["last_operator"] == "BLOBTREE_INK_OT_bake" and facts["last_range"] == [1, 6]
+    assert facts["redone_state"] == "done" and facts["redone_frames"] == [1, 2, 3, 4, 5, 6]
     right = [facts["silhouette_right"][str(f)] for f in range(1, 7)]
     assert right == sorted(right) and right[-1] > right[0] + 1.5            # following the Empty
     assert facts["frames_seen"] == [1, 2, 3, 4, 5, 6]

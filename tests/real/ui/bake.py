@@ -11,7 +11,8 @@ set-up (and why) is marked [Python].
    Escape. The bake stops with frames 1 and 2 kept; the timeline is back on frame 1.
 3. F3 "bake frames" again: all six frames; Adjust Last Operation holds the range baked.
 4. Ctrl+Z: the second bake is undone as one step (frames 1 and 2 again); Ctrl+Shift+Z
-   redoes it.
+   redoes it. The bake run as Adjust Last Operation runs it (its execute, in the UI, with
+   the panel's range) bakes that range again [Python].
 5. Alt+A (the preview's selection outline would lie over the silhouettes); Right arrow
    five times (the next frame each time), a screenshot at frames 1 and 6: the viewport
    shows each frame's own drawing.
@@ -111,6 +112,16 @@ def run():
     ink = bpy.data.objects[f"{tree.name} Ink"]
     sc = bpy.context.scene
     record(frames_after_redo=drawn(tree))
+    # [Python] what a change in Adjust Last Operation runs: the bake's execute, in the UI,
+    # with the panel's values (run from a script it makes no undo step, so it comes after
+    # the undo and redo above)
+    bake.last_bake.clear()
+    with bpy.context.temp_override(window=win, area=view3d, region=vregion):
+        bpy.ops.blobtree_ink.bake("EXEC_DEFAULT", tree_name=tree.name, frame_start=1, frame_end=6)
+    tree = bpy.data.node_groups["two_spheres"]
+    ink = bpy.data.objects[f"{tree.name} Ink"]
+    sc = bpy.context.scene
+    record(redone_state=bake.last_bake.get("state"), redone_frames=drawn(tree))
 
     # --- 5. the timeline, a frame at a time (nothing selected: the preview's selection
     # outline would lie over the silhouettes) --------------------------------------------------
