@@ -57,8 +57,11 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         self.frame_was = self.scene.frame_current
         self.done = []
         self.previous = None              # what the last frame's illustration left this one's
+        # frames are seen by the scene's camera; without one, from the pipeline's three-quarter view
+        self.note = "" if self.scene.camera is not None else \
+            "the scene has no camera: each frame is seen from a three-quarter view of the model"
         last_bake.clear()
-        last_bake.update(state="running", frames=[], tree=self.tree_key)
+        last_bake.update(state="running", frames=[], tree=self.tree_key, note=self.note)
 
     def _job(self, frame):
         """Go to a frame and make its job (on the main thread: it reads the scene)."""
@@ -83,7 +86,8 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         if error is not None:
             self.report({"ERROR"}, f"{error}; frames {self._span()} are baked" if self.done else str(error))
         else:
-            self.report({"INFO"}, f"Bake {state}: frames {self._span()}" if self.done else f"Bake {state}: no frame")
+            done = f"Bake {state}: frames {self._span()}" if self.done else f"Bake {state}: no frame"
+            self.report({"WARNING"} if self.note else {"INFO"}, f"{done} ({self.note})" if self.note else done)
         return {"FINISHED"}               # what was baked is kept, as one undo step
 
     def _span(self):

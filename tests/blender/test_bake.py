@@ -44,6 +44,22 @@ def test_a_bake_draws_each_frame_on_that_frames_surface(ext, example):
     assert rights == sorted(rights) and rights[-1] > rights[0] + 1.0   # following the empty
 
 
+def test_a_bake_without_a_scene_camera_says_where_its_frames_are_seen_from(ext, example):
+    """With no scene camera the frames are seen from a three-quarter view of the model:
+    the bake says so (a warning with its result); with a camera it says nothing more."""
+    tree, empty = moving_spheres(example)
+    bake = mod(ext, "operators.bake").last_bake
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=2) == {"FINISHED"}
+    assert bake["state"] == "done" and bake["note"] == ""
+    with_camera = drawing("two_spheres", 2)["Silhouette"]
+    bpy.context.scene.camera = None
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=2) == {"FINISHED"}
+    assert bake["state"] == "done" and bake["note"] == ("the scene has no camera: each frame is seen from a "
+                                                        "three-quarter view of the model")
+    seen = drawing("two_spheres", 2)["Silhouette"]
+    assert len(seen) and not all(a.shape == b.shape and np.allclose(a, b) for a, b in zip(seen, with_camera))
+
+
 def test_baking_again_replaces_only_its_own_frames(ext, example):
     tree, empty = moving_spheres(example)
     assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=3) == {"FINISHED"}
