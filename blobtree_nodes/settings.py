@@ -103,6 +103,23 @@ def _render_preview(self, context):
         S.depth_pass(context.scene, not self.render_preview)
 
 
+def _scene_range(self, context):
+    """Scene Range switched off: the tree's own range starts as the range in effect (the
+    scene's, which the fields showed), not from whatever it held before."""
+    if not self.use_scene_range and context.scene is not None:
+        self.frame_start, self.frame_end = context.scene.frame_start, context.scene.frame_end
+
+
+def _start_moved(self, context):
+    if self.frame_end < self.frame_start:          # as the timeline's Start pushes its End
+        self.frame_end = self.frame_start
+
+
+def _end_moved(self, context):
+    if self.frame_start > self.frame_end:
+        self.frame_start = self.frame_end
+
+
 def bake_range(ink, scene):
     """The frames a bake of the tree illustrates: the scene's range or the tree's own."""
     if ink.use_scene_range:
@@ -173,11 +190,11 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
         description="When a render reaches a frame the ink has no drawing of (or one a render made), illustrate "
                     "it first: the outlines and the style's strokes (a bake's or the artist's drawings are kept)")
     use_scene_range: bpy.props.BoolProperty(
-        name="Scene Range", default=True,
+        name="Scene Range", default=True, update=_scene_range,
         description="Bake the scene's frame range (the timeline's Start and End); off: the range below")
-    frame_start: bpy.props.IntProperty(name="Start", default=1, min=0,
+    frame_start: bpy.props.IntProperty(name="Start", default=1, min=0, update=_start_moved,
                                        description="First frame a bake illustrates (when not the scene's range)")
-    frame_end: bpy.props.IntProperty(name="End", default=24, min=0,
+    frame_end: bpy.props.IntProperty(name="End", default=24, min=0, update=_end_moved,
                                      description="Last frame a bake illustrates (when not the scene's range)")
     render_preview: bpy.props.BoolProperty(
         name="Render Preview Mesh", default=False, update=_render_preview,

@@ -81,8 +81,13 @@ def test_the_bake_range_is_the_scenes_or_the_trees_and_clear_removes_frames(ext,
     sc.frame_start, sc.frame_end = 2, 3
     assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres") == {"FINISHED"}
     assert frames.drawn_frames(tree) == {2, 3}
-    tree.ink.use_scene_range = False
-    tree.ink.frame_start, tree.ink.frame_end = 5, 6
+    tree.ink.use_scene_range = False                               # the fields start from the range in effect
+    assert (tree.ink.frame_start, tree.ink.frame_end) == (2, 3)
+    tree.ink.frame_start = 9                                       # Start past End pushes End, as in the timeline
+    assert (tree.ink.frame_start, tree.ink.frame_end) == (9, 9)
+    tree.ink.frame_end = 5                                         # ... and End before Start pulls Start
+    assert (tree.ink.frame_start, tree.ink.frame_end) == (5, 5)
+    tree.ink.frame_end = 6
     assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres") == {"FINISHED"}
     assert frames.drawn_frames(tree) == {2, 3, 5, 6}
     assert frames.spans(frames.drawn_frames(tree)) == "2-3, 5-6"
