@@ -1,7 +1,10 @@
 """Build a BlobTree node tree from a model (the JSON importer's Blender half).
 
 Layout: the Model Output on the right, then one column per depth going left; inside a
-column nodes keep the order of a depth-first walk, so siblings stay together.
+column nodes keep the order of a depth-first walk, so siblings stay together. A column
+taller than the layout's height (that of a 16:9 box holding every node, at least
+SHORTEST_WRAP) wraps into several side by side, so a wide tree (the heart's 66 segments
+at one depth) is a block the editor's View All shows readably, not one tall column.
 """
 import gc
 import json
@@ -13,6 +16,8 @@ from .nodes import LABEL, idname, suspend_socket_updates
 
 COLUMN = 260.0
 ROW = 60.0
+ASPECT = 16.0 / 9.0          # the imported layout's width over its height, about
+SHORTEST_WRAP = 1500.0       # a column shorter than this never wraps (about a screen of nodes)
 
 
 def build_tree(tree, model):
@@ -71,15 +76,14 @@ def _build(tree, model):
     out.location = (COLUMN, 0.0)
     _set_iso(tree, model.iso)
     tree.model_name = model.name
-    rows = {}                                  # depth -> next y
-    where = []
+    where = []                                 # (depth, height) of each node made, in order
     pending_links = []
     stack = [(model.root, 0, out.inputs[0])]
     made = []
     with _NamesFromLabels() as names:     # restored before the links, whose updates see it
         while stack:
             node, depth, target = stack.pop()
-            bn = _add_node(tree, names, node, depth, rows, where, stack)
+            bn = _add_node(tree, names, node, depth, where, stack)
             made.append(bn)
             pending_links.append((bn, target))
     # links after all nodes: adding nodes to a tree full of links is slower
@@ -89,7 +93,7 @@ def _build(tree, model):
     locs = [0.0] * (2 * len(tree.nodes))
     tree.nodes.foreach_get("location", locs)
     index = {n.as_pointer(): i for i, n in enumerate(tree.nodes)}
-    for bn, (x, y) in zip(made, where):
+    for bn, (x, y) in zip(made, _layout(where)):
         i = index[bn.as_pointer()]
         locs[2 * i], locs[2 * i + 1] = x, y
     tree.nodes.foreach_set("location", locs)
@@ -98,13 +102,32 @@ def _build(tree, model):
     return made
 
 
-def _add_node(tree, names, node, depth, rows, where, stack):
-    """Make one node (its properties, position and input sockets); push its children."""
+def _layout(where):
+    """(x, y) of each node from its (depth, height), in the order made: a column per
+    depth going left from the Model Output, wrapped into side-by-side columns where it
+    is taller than the layout's height."""
+    tall = max(SHORTEST_WRAP, (sum(h for _, h in where) * COLUMN / ASPECT) ** 0.5)
+    depths = sorted({d for d, _ in where})
+    columns, placed = {}, []                   # depth -> its columns' next y; (depth, column, y)
+    for d, h in where:
+        col = columns.setdefault(d, [0.0])
+        if col[-1] < 0 and col[-1] - h < -tall:
+            col.append(0.0)                    # this column is full: a new one beside it
+        placed.append((d, len(col) - 1, col[-1]))
+        col[-1] -= h
+    left, x0 = 0, {}
+    for d in depths:                           # each depth's first column left of the last depth's
+        x0[d] = left
+        left += len(columns[d])
+    return [(-COLUMN * (x0[d] + c), y) for d, c, y in placed]
+
+
+def _add_node(tree, names, node, depth, where, stack):
+    """Make one node (its properties and input sockets), note its depth and height;
+    push its children."""
     kind = N.TYPE_NAME[type(node)]
     bn = names.new(tree, kind)
-    y = rows.get(depth, 0.0)
-    where.append((-COLUMN * depth, y))
-    rows[depth] = y - _height(kind, len(getattr(node, "children", ())))
+    where.append((depth, _height(kind, len(getattr(node, "children", ())))))
     if node.name is not None:
         bn.label = node.name
     bn.set_exact_many({key: (list(v) if isinstance(v, tuple) else v)

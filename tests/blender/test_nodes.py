@@ -114,6 +114,25 @@ def test_import_layout_is_one_column_per_depth(example):
     assert diff.label == "pear" and {n.label for n in leaves} >= {"belly", "neck", "stalk", "bite"}
 
 
+def test_a_wide_tree_imports_as_a_block_not_a_tall_column(example):
+    """The heart's 66 segments sit at one depth: their column wraps into several side by
+    side, each node left of the node it feeds, none overlapping another, the whole about
+    as wide as a screen is (View All shows it readably)."""
+    bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
+    t = bpy.data.node_groups["heart"]
+    nodes = list(t.nodes)
+    xs = np.array([n.location.x for n in nodes])
+    ys = np.array([n.location.y for n in nodes])
+    width, height = xs.max() - xs.min() + 260, ys.max() - ys.min()
+    assert 1.0 < width / height < 4.0, (width, height)
+    for link in t.links:                                            # data flows right
+        assert link.from_node.location.x < link.to_node.location.x
+    tops = {}
+    for n in nodes:                                                 # in a column, tops at least a node apart
+        tops.setdefault(round(n.location.x), []).append(n.location.y)
+    assert all(np.all(np.diff(sorted(v)) >= 100) for v in tops.values())
+
+
 def test_imported_nodes_get_blenders_names_and_the_labels_come_back(ext, example, monkeypatch):
     # the importer names nodes through their type's label; afterwards every type
     # must draw and add with its own label again, also when the build fails midway
