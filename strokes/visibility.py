@@ -58,9 +58,12 @@ def visible(ev, P, eye, normals=None, step=None, offset=None):
         b = int(np.clip(MARCH_BATCH // len(live), 1, MAX_AHEAD))
         t = t0[live, None] + ((k + np.arange(b))[None, :] * step) / length[live, None]      # (m, b)
         inside = t <= t1[live, None]
-        # the samples past a ray's end (its last call's tail) are not evaluated
-        f = np.full(t.shape, -np.inf)
-        f[inside] = ev.field((start[live, None, :] + t[:, :, None] * D[live, None, :])[inside])
+        Q = (start[live, None, :] + t[:, :, None] * D[live, None, :]).reshape(-1, 3)
+        if inside.all():                   # a sample a ray (always so when they take one each)
+            f = ev.field(Q).reshape(t.shape)
+        else:                              # the samples past a ray's end (its last call's tail) are not evaluated
+            f = np.full(t.shape, -np.inf)
+            f[inside] = ev.field(Q[inside.reshape(-1)])
         hit = f >= ev.iso
         vis[live[hit.any(axis=1)]] = False
         live = live[~hit.any(axis=1) & inside[:, -1]]
