@@ -132,6 +132,8 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             self.report({"ERROR"}, str(e))
             if getattr(self, "scene", None) is not None:
                 self.scene.frame_set(self.frame_was)
+            if last_bake.get("state") == "running":      # its first frame failed: no modal run
+                last_bake["state"] = "failed"
             return {"CANCELLED"}
         wm = context.window_manager
         self.timer = wm.event_timer_add(TICK, window=context.window)

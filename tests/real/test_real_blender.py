@@ -317,7 +317,8 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     bakes the scene's range; Esc while frame 3 is under way keeps frames 1 and 2; the
     whole range baked (Adjust Last Operation showing that range), the Right arrow steps
     the timeline and the viewport shows each frame's own drawing; Ctrl+Z undoes a bake as one step (and Ctrl+Shift+Z redoes it);
-    Clear Frames clears them."""
+    Clear Frames clears them; with the driving Empty deleted in the viewport the bake fails
+    on its first frame and draws nothing."""
     out, facts = run_ui_script("bake.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
     assert facts["held_frames"] == [1, 2] and facts["held_state"] == "running"
@@ -331,6 +332,7 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     assert facts["frames_seen"] == [1, 2, 3, 4, 5, 6]
     assert facts["frames_after_undo"] == [1, 2] and facts["frames_after_redo"] == [1, 2, 3, 4, 5, 6]
     assert facts["frames_after_clear"] == []
+    assert facts["deleted_state"] == "failed" and facts["deleted_frames"] == []
     shots = {}
     for name in ("bake_held.png", "bake_stopped.png", "bake_frame_1.png", "bake_frame_6.png"):
         shutil.copy(os.path.join(out, name), artifact(name))

@@ -17,6 +17,8 @@ set-up (and why) is marked [Python].
    five times (the next frame each time), a screenshot at frames 1 and 6: the viewport
    shows each frame's own drawing.
 6. F3 "clear frames": no frame drawn.
+7. The Empty deleted in the viewport (X, Return), F3 "bake frames": the bake fails on its
+   first frame (the Empty is named) and draws nothing.
 
 Facts go to facts.json; frame 6's silhouette projected into the viewport (screen
 pixels) to bake_points.json."""
@@ -150,6 +152,21 @@ def run():
     yield from menu_search(win, vregion, "clear frames")
     yield from until(lambda: not drawn(tree), 10, "Clear Frames")
     record(frames_after_clear=drawn(tree))
+
+    # --- 7. the driving Empty deleted in the viewport (clicked, X, Return), then a bake ------------
+    driver = bpy.data.objects["Driver"]
+    with bpy.context.temp_override(window=win, area=view3d, region=vregion):
+        bpy.ops.object.select_all(action="DESELECT")
+    driver.select_set(True)                              # [Python] an Empty is hard to click
+    bpy.context.view_layer.objects.active = driver
+    yield {"action": "mouse", "x": x, "y": y}
+    yield {"action": "key", "keys": ["x"], "pause": 0.5}
+    yield {"action": "key", "keys": ["Return"], "pause": 0.5}
+    yield from until(lambda: "Driver" not in bpy.context.scene.objects, 10, "X to delete the Empty")
+    bake.last_bake.clear()
+    yield from menu_search(win, vregion, "bake frames")
+    yield from until(lambda: bake.last_bake.get("state") in ENDED, 60, "the bake to stop on the deleted Empty")
+    record(deleted_state=bake.last_bake["state"], deleted_frames=drawn(tree))
 
 
 Steps(run())
