@@ -81,19 +81,28 @@ class Followed:
         return m if self.inverse is None else self.inverse @ m
 
 
+def _in_a_scene(node, obj):
+    """The object a node follows, unless it is in no scene: deleted in the viewport (the
+    node's pointer keeps it in bpy.data, where nothing evaluates its animation any more)."""
+    if obj is not None and not obj.users_scene:
+        raise TreeError(node, f"the object '{obj.name}' it follows was deleted (it is in no scene): "
+                              "pick another or clear the field")
+    return obj
+
+
 def _node_doc(node, followed):
     """This node's own keys (no children) as a blobtree-1 fragment."""
     d = {"type": node.kind}
     if node.label:
         d["name"] = node.label
-    if node.kind == "transform" and node.source_object is not None:
+    if node.kind == "transform" and _in_a_scene(node, node.source_object) is not None:
         loc, rot, scale = followed.matrix(node.source_object).decompose()
         eul = rot.to_euler("XYZ")
         d.update(translate=[float(x) for x in loc], rotate=[float(x) for x in eul],
                  scale=[float(x) for x in scale])
         return d
     for key in props.value_keys(node.kind):
-        obj = getattr(node, f"{key}_object", None)
+        obj = _in_a_scene(node, getattr(node, f"{key}_object", None))
         d[key] = [float(x) for x in followed.matrix(obj).translation] if obj is not None else node.value(key)
     return d
 

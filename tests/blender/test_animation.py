@@ -173,3 +173,24 @@ def test_the_sidebar_switches_the_preview_off_and_on(ext, example):
     tree.show_preview = True
     changes.run_due(float("inf"))
     assert tree.preview_object is not None and len(tree.preview_object.data.vertices) > 100
+
+
+def test_a_followed_object_deleted_in_the_viewport_is_named_on_its_node(ext, example):
+    """Delete in the viewport unlinks the Empty from the scene while the node's pointer
+    keeps it: the tree does not compile, the node says which object is gone and why, and
+    the preview keeps its last good shape; linked again, all is well."""
+    changes = mod(ext, "blobtree_nodes.changes")
+    comp = mod(ext, "blobtree_nodes.compile")
+    tree, empty = moving_spheres(example)
+    follower = next(n for n in tree.nodes if getattr(n, "center_object", None) is empty)
+    changes.run_due(float("inf"))
+    shape = [tuple(v.co) for v in tree.preview_object.data.vertices]
+    bpy.context.scene.collection.objects.unlink(empty)
+    with pytest.raises(comp.TreeError, match="the object 'Driver' it follows was deleted"):
+        comp.compile_tree(tree)
+    assert comp.tree_model_or_none(tree) is None and "'Driver' it follows was deleted" in follower.error
+    changes.schedule(tree)
+    changes.run_due(float("inf"))
+    assert [tuple(v.co) for v in tree.preview_object.data.vertices] == shape
+    bpy.context.scene.collection.objects.link(empty)
+    assert comp.tree_model_or_none(tree) is not None
