@@ -83,10 +83,11 @@ class Followed:
 
 def _in_a_scene(node, obj):
     """The object a node follows, unless it is in no scene: deleted in the viewport (the
-    node's pointer keeps it in bpy.data, where nothing evaluates its animation any more)."""
+    node's pointer keeps it in bpy.data, where nothing evaluates its animation any more)
+    or appended without being linked into one."""
     if obj is not None and not obj.users_scene:
         raise TreeError(node, f"the object '{obj.name}' it follows was deleted (it is in no scene): "
-                              "pick another or clear the field")
+                              "link it into a scene, pick another or clear the field")
     return obj
 
 

@@ -62,6 +62,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             "the scene has no camera: each frame is seen from a three-quarter view of the model"
         last_bake.clear()
         last_bake.update(state="running", frames=[], tree=self.tree_key, note=self.note)
+        self.began = True                 # the figures are this bake's from here on
 
     def _job(self, frame):
         """Go to a frame and make its job (on the main thread: it reads the scene)."""
@@ -69,7 +70,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         tree = bpy.data.node_groups.get(self.tree_key)
         if tree is None:
             raise FR.FrameError(f"frame {frame}: the BlobTree '{self.tree_key}' is gone")
-        FR.check_followed(tree, self.followed, frame, self.scene)
+        FR.check_followed(tree, self.followed, frame)
         try:
             return FR.frame_job(tree, self.scene)
         except (TreeError, DriverError) as e:
@@ -132,7 +133,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             self.report({"ERROR"}, str(e))
             if getattr(self, "scene", None) is not None:
                 self.scene.frame_set(self.frame_was)
-            if last_bake.get("state") == "running":      # its first frame failed: no modal run
+            if getattr(self, "began", False):            # its first frame failed: no modal run
                 last_bake["state"] = "failed"
             return {"CANCELLED"}
         wm = context.window_manager

@@ -105,14 +105,14 @@ def followed_objects(tree):
     return out
 
 
-def check_followed(tree, followed, frame, scene):
-    """FrameError when an object the tree followed at the start is gone from the scene:
-    removed, or deleted in the viewport (an object a node still points to stays in
-    bpy.data, in no scene, and its animation is no longer evaluated)."""
+def check_followed(tree, followed, frame):
+    """FrameError when an object the tree followed at the start is gone: removed, or
+    deleted in the viewport (an object a node still points to stays in bpy.data, in no
+    scene, and its animation is no longer evaluated: blobtree_nodes.compile says so too)."""
     for node_name, key, obj_name in followed:
         node = tree.nodes.get(node_name)
         obj = None if node is None else getattr(node, key, None)
-        if obj is None or scene.objects.get(obj.name) is None:
+        if obj is None or not obj.users_scene:
             label = node_name if node is None else (node.label or node.name)
             raise FrameError(f"frame {frame}: the object '{obj_name}' that node '{label}' follows was "
                              "deleted")

@@ -143,7 +143,7 @@ def render_scene(spec, log):
             t = time.perf_counter()
             sc.frame_set(frame)
             tree = bpy.data.node_groups[spec.tree]
-            FR.check_followed(tree, followed, frame, sc)
+            FR.check_followed(tree, followed, frame)
             try:
                 job, _ = FR.frame_job(tree, sc)
                 ill = PL.Illustration(job, previous=previous, remember=True)
