@@ -1,8 +1,9 @@
 """Changes of BlobTree node trees, debounced: a change schedules the tree's preview to
 be rebuilt once changes have stopped for DELAY seconds (a timer; never on every step
 of a slider drag or every frame of playback), and at the latest MAX_WAIT seconds after
-the first change it has not shown (so the preview keeps up with playback and long
-drags, a rebuild every MAX_WAIT seconds). An artist's edit is also counted: a
+the first change it has not shown, or WAIT_PER_REBUILD times as long as its last
+rebuild took if that is longer (so the preview keeps up with playback and long drags,
+and rebuilding takes at most a third of the time however slow it is). An artist's edit is also counted: a
 running illustration stops when its tree's edit count moves. A move (the animation
 written at a new frame, a followed object moving: :func:`moving`) is not an edit. The
 state is module state keyed by tree name (not stored on Blender data or on Python
@@ -15,10 +16,12 @@ import bpy
 
 DELAY = 0.35                     # seconds of quiet before a rebuild
 MAX_WAIT = 1.0                   # seconds from a first change to its rebuild, at most, however many follow
+WAIT_PER_REBUILD = 2.0           # ... or this many times the tree's last rebuild's seconds, if longer
 
 _clock = time.monotonic         # the time changes are stamped with (tests replace it)
 _pending = {}                    # tree name -> monotonic time the rebuild is due
 _since = {}                      # tree name -> monotonic time of the first change the rebuild will show
+_cost = {}                       # tree name -> seconds its last rebuild took
 _edits = {}                      # tree name -> number of edits seen (a running illustration stops on change)
 _rebuild = []                    # what a due tree goes to: preview.rebuild, set when it registers
 
@@ -65,7 +68,8 @@ def schedule(tree, delay=DELAY, edit=True):
     now = _clock()
     if tree.name not in _pending:
         _since[tree.name] = now
-    _pending[tree.name] = min(now + delay, _since[tree.name] + MAX_WAIT)
+    longest = max(MAX_WAIT, WAIT_PER_REBUILD * _cost.get(tree.name, 0.0))
+    _pending[tree.name] = min(now + delay, _since[tree.name] + longest)
     if not bpy.app.timers.is_registered(_tick):
         bpy.app.timers.register(_tick, first_interval=delay)
 
@@ -93,8 +97,10 @@ def run_due(now=None):
         _since.pop(name, None)
         tree = bpy.data.node_groups.get(name)
         if tree is not None and tree.bl_idname == "BlobTreeInkNodeTree" and _rebuild:
+            t = _clock()
             if _rebuild[0](tree):
                 done.append(name)
+            _cost[name] = _clock() - t
     return done
 
 
@@ -107,6 +113,7 @@ def forget():
     """Another file was loaded: its trees may have the old file's names."""
     _pending.clear()
     _since.clear()
+    _cost.clear()
     _edits.clear()
 
 
@@ -115,3 +122,4 @@ def stop():
         bpy.app.timers.unregister(_tick)
     _pending.clear()
     _since.clear()
+    _cost.clear()

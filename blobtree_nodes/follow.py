@@ -54,12 +54,18 @@ def _frame_changed(scene, depsgraph=None):
 
 @bpy.app.handlers.persistent
 def _depsgraph_updated(scene, depsgraph):
+    """A followed object moved: its trees' previews follow. Objects came into or left the
+    scene (a collection changed: one deleted in the viewport, or brought back by undo):
+    the trees that follow objects are compiled again (a node following one that is in no
+    scene says so)."""
     moved = {u.id.original.name for u in depsgraph.updates
              if isinstance(u.id, bpy.types.Object) and u.is_updated_transform}
-    if not moved:
+    regrouped = any(isinstance(u.id, (bpy.types.Collection, bpy.types.Scene)) for u in depsgraph.updates)
+    if not moved and not regrouped:
         return
     for tree in trees():
-        if tree.show_preview and moved & followed(tree):
+        names = followed(tree)
+        if tree.show_preview and (moved & names or regrouped and names):
             changes.schedule(tree, edit=False)
 
 

@@ -123,6 +123,32 @@ def test_the_preview_keeps_up_with_playback(ext, example, monkeypatch):
     assert changes.pending()[tree.name] == pytest.approx(now[0] + changes.DELAY)
 
 
+def test_a_slow_preview_waits_longer_during_playback(ext, example, monkeypatch):
+    """A rebuild that takes long (seconds of the changes' fake clock) makes the longest
+    wait WAIT_PER_REBUILD times its length: rebuilding takes at most a third of the time."""
+    changes = mod(ext, "blobtree_nodes.changes")
+    tree, empty = moving_spheres(example)
+    now = [100.0]
+    monkeypatch.setattr(changes, "_clock", lambda: now[0])
+    rebuild = changes._rebuild[0]
+
+    def slow(t):                                                 # the rebuild takes 0.75 s
+        now[0] += 0.75
+        return rebuild(t)
+    monkeypatch.setattr(changes, "_rebuild", [slow])
+    bpy.context.scene.frame_set(2)
+    changes.run_due(float("inf"))                                # one rebuild, 0.75 s long
+    start = now[0]
+    for f in range(3, 5):
+        now[0] += 0.125
+        bpy.context.scene.frame_set(f)
+    assert changes.pending()[tree.name] == now[0] + changes.DELAY    # a short wait: as ever
+    for f in range(5, 30):                                       # playback goes on
+        now[0] += 0.125
+        bpy.context.scene.frame_set(f)
+    assert changes.pending()[tree.name] == start + 0.125 + changes.WAIT_PER_REBUILD * 0.75
+
+
 def test_exporting_writes_the_model_as_it_is_at_the_current_frame(ext, example, tmp_path):
     """A keyed radius and a centre that follows a keyed Empty: the JSON exported at a
     frame holds that frame's values."""
@@ -186,11 +212,15 @@ def test_a_followed_object_deleted_in_the_viewport_is_named_on_its_node(ext, exa
     changes.run_due(float("inf"))
     shape = [tuple(v.co) for v in tree.preview_object.data.vertices]
     bpy.context.scene.collection.objects.unlink(empty)
+    bpy.context.view_layer.update()                              # the delete reaches the depsgraph
+    assert tree.name in changes.pending()                        # ... which schedules the tree
+    changes.run_due(float("inf"))
+    assert "'Driver' it follows was deleted" in follower.error   # the node says so
+    assert [tuple(v.co) for v in tree.preview_object.data.vertices] == shape
     with pytest.raises(comp.TreeError, match="the object 'Driver' it follows was deleted"):
         comp.compile_tree(tree)
-    assert comp.tree_model_or_none(tree) is None and "'Driver' it follows was deleted" in follower.error
-    changes.schedule(tree)
+    bpy.context.scene.collection.objects.link(empty)             # back (an undo)
+    bpy.context.view_layer.update()
+    assert tree.name in changes.pending()
     changes.run_due(float("inf"))
-    assert [tuple(v.co) for v in tree.preview_object.data.vertices] == shape
-    bpy.context.scene.collection.objects.link(empty)
-    assert comp.tree_model_or_none(tree) is not None
+    assert follower.error == "" and comp.tree_model_or_none(tree) is not None
