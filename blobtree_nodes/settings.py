@@ -104,9 +104,11 @@ def _render_preview(self, context):
 
 
 def _scene_range(self, context):
-    """Scene Range switched off: the tree's own range starts as the range in effect (the
-    scene's, which the fields showed), not from whatever it held before."""
-    if not self.use_scene_range and context.scene is not None:
+    """Scene Range switched off: a tree whose own range was never set starts it as the
+    range in effect (the scene's, which the fields showed), not from the defaults; one
+    that was set (by the artist or a script) keeps it."""
+    never_set = not (self.is_property_set("frame_start") or self.is_property_set("frame_end"))
+    if not self.use_scene_range and never_set and context.scene is not None:
         self.frame_start, self.frame_end = context.scene.frame_start, context.scene.frame_end
 
 

@@ -83,6 +83,10 @@ def test_the_bake_range_is_the_scenes_or_the_trees_and_clear_removes_frames(ext,
     assert frames.drawn_frames(tree) == {2, 3}
     tree.ink.use_scene_range = False                               # the fields start from the range in effect
     assert (tree.ink.frame_start, tree.ink.frame_end) == (2, 3)
+    tree.ink.frame_end = 7                                         # a range of its own is kept when
+    tree.ink.use_scene_range = True                                # the scene's is used for a while
+    tree.ink.use_scene_range = False
+    assert (tree.ink.frame_start, tree.ink.frame_end) == (2, 7)
     tree.ink.frame_start = 9                                       # Start past End pushes End, as in the timeline
     assert (tree.ink.frame_start, tree.ink.frame_end) == (9, 9)
     tree.ink.frame_end = 5                                         # ... and End before Start pulls Start
