@@ -15,6 +15,7 @@ from ..model import keyed
 from ..model.curvature import curvature
 from ..model.marks import surface_marks
 from ..model.projection import project
+from ..model.vectors import cross
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
@@ -160,16 +161,28 @@ def stipples(cv, sampling, st, region, part):
 def single_stroke(cv, st, point, seed=0):
     """One smarticle stroke from the surface point nearest ``point``, or None when the
     point is too far from the surface to project onto it (or the stroke would be a
-    single point)."""
+    single point). It sets off along the flow field the way that goes to the right of
+    the view (a principal direction has no way of its own)."""
     ev = cv.ev
     P, f, _ = project(ev, np.asarray(point, float).reshape(1, 3), steps=8, max_step=0.05 * ev.scale)
     if not on_surface(f, ev.iso, NEAR_SURFACE)[0]:
         return None
     field = L.direction_field(st.hatch_field, st.hatch_axis, cv.eye)
+    H = L.headings(ev, P, st.hatch_field, _view_right(cv.eye, P), st.hatch_axis, cv.eye)
     res = sm.run(ev, P, field, STEP * cv.unit, st.resolved_weights(),
-                 sm.StrokeRules(max_steps=SINGLE_STEPS, stop_on_curvature_sign=False), np.array([seed], np.uint64))
+                 sm.StrokeRules(max_steps=SINGLE_STEPS, stop_on_curvature_sign=False), np.array([seed], np.uint64),
+                 headings=H)
     p = res.paths[0]
     if len(p) < 2:
         return None
     r = cv.radius(st)
     return Stroke(p, np.full(len(p), r), np.ones(len(p)))
+
+
+def _view_right(eye, P):
+    """The view's right at points P seen from eye (up is +z; looking straight up or
+    down, +x)."""
+    right = cross(np.array([0.0, 0.0, 1.0]), np.asarray(eye, float) - P)
+    flat = ~(np.linalg.norm(right, axis=1) > 1e-12 * np.linalg.norm(np.asarray(eye, float) - P, axis=1))
+    right[flat] = [1.0, 0.0, 0.0]
+    return right / np.linalg.norm(right, axis=1, keepdims=True)

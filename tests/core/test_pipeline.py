@@ -121,3 +121,24 @@ def test_bad_jobs_are_named(load_example, change, message):
     job = dataclasses.replace(PL.Job(load_example("pear")), **change)
     with pytest.raises(PL.JobError, match=message):
         PL.Illustration(job)
+
+
+def test_a_single_stroke_sets_off_to_the_right_of_the_view(load_example):
+    """A principal direction has no way of its own: the single stroke from a point goes
+    the way that is to the view's right, wherever on the model the point is and however
+    the eye looks at it (here from the front and from the left)."""
+    from blobtree_ink import model as M
+    from blobtree_ink.model.marks import surface_marks
+    from blobtree_ink.pipeline import layers as LY
+    ev = M.Evaluator(load_example("pear"))
+    centre = 0.5 * (np.asarray(ev.bounds[0]) + np.asarray(ev.bounds[1]))
+    st = ST.style("hatched")
+    points = surface_marks(ev, 0.03 * ev.scale, 3).points[::20][:12]
+    for eye in (centre + [0.0, -3.0 * ev.scale, 0.0], centre + [-3.0 * ev.scale, 0.0, 0.0]):
+        cv = LY.Canvas(ev, eye, np.array([0.0, 0.0, 1.0]), 0.01, 0.02 * ev.scale)
+        went = []
+        for p in points:
+            s = LY.single_stroke(cv, st, p)
+            if s is not None:
+                went.append(float(np.dot(s.points[1] - s.points[0], LY._view_right(eye, p[None])[0])))
+        assert len(went) >= 10 and all(w > 0 for w in went), went
