@@ -12,7 +12,7 @@ set-up (and why) is marked [Python].
 3. F3 "bake frames" again: all six frames; Adjust Last Operation holds the range baked.
 4. Ctrl+Z: the second bake is undone as one step (frames 1 and 2 again); Ctrl+Shift+Z
    redoes it. The bake run as Adjust Last Operation runs it (its execute, in the UI, with
-   the panel's range) bakes that range again [Python].
+   the last operation's values) bakes that range again [Python].
 5. Alt+A (the preview's selection outline would lie over the silhouettes); Right arrow
    five times (the next frame each time), a screenshot at frames 1 and 6: the viewport
    shows each frame's own drawing.
@@ -99,8 +99,9 @@ def run():
     right = {f: max((float((ink.matrix_world @ Vector(p)).x) for s in drawing_of(ink, "Silhouette", f) for p in s),
                     default=None) for f in range(1, 7)}
     last = bpy.context.window_manager.operators[-1]      # what Adjust Last Operation shows
+    redo = {k: getattr(last.properties, k) for k in ("tree_name", "frame_start", "frame_end")}
     record(full_state=bake.last_bake["state"], full_frames=drawn(tree), silhouette_right=right,
-           last_operator=last.bl_idname, last_range=[last.properties.frame_start, last.properties.frame_end])
+           last_operator=last.bl_idname, last_range=[redo["frame_start"], redo["frame_end"]])
 
     # --- 4. undo: the second bake goes as one step; redo brings it back -----------------------
     x, y = screen_xy(win, vregion, vregion.width / 2, vregion.height / 2)
@@ -119,7 +120,7 @@ def run():
     # the undo and redo above)
     bake.last_bake.clear()
     with bpy.context.temp_override(window=win, area=view3d, region=vregion):
-        bpy.ops.blobtree_ink.bake("EXEC_DEFAULT", tree_name=tree.name, frame_start=1, frame_end=6)
+        bpy.ops.blobtree_ink.bake("EXEC_DEFAULT", **redo)    # the values the panel showed (before the undo)
     tree = bpy.data.node_groups["two_spheres"]
     ink = bpy.data.objects[f"{tree.name} Ink"]
     sc = bpy.context.scene
