@@ -24,6 +24,7 @@ from .data import Stroke
 from .visibility import visible, visible_runs
 
 FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
+TURN = np.radians(45.0)      # a principal direction this far from a smarticle's heading is noise
 ISOTROPIC = 0.2         # principal directions count where (k1 - k2) exceeds this share of |k1| + |k2|
 # salts of what is decided about a mark (model.keyed)
 SHADE = 1               # whether a mark in the penumbra gets a stroke
@@ -65,7 +66,11 @@ def direction_field(kind, axis=None, eye=None):
         def principal(P, N, c):
             d = np.array(c[kind], float)
             v = c["velocity"]
-            keep = isotropic(c) & (np.linalg.norm(v, axis=1) > 0)      # no direction of its own: go on
+            moving = np.linalg.norm(v, axis=1) > 0
+            # no direction of its own, or one across the heading (the two principal directions
+            # changing places near an umbilic within a step): go on
+            across = np.abs(np.einsum("ij,ij->i", d, v)) < np.cos(TURN) * np.linalg.norm(v, axis=1)
+            keep = (isotropic(c) | across) & moving
             d[keep] = v[keep]
             return d
         return principal

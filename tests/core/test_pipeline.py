@@ -142,3 +142,32 @@ def test_a_single_stroke_sets_off_to_the_right_of_the_view(load_example):
             if s is not None:
                 went.append(float(np.dot(s.points[1] - s.points[0], LY._view_right(eye, p[None])[0])))
         assert len(went) >= 10 and all(w > 0 for w in went), went
+
+
+def test_principal_strokes_do_not_kink_where_the_principal_directions_change_places(load_example):
+    """Near an umbilic the two principal directions change places within a step; a
+    smarticle following one keeps its heading there (a direction more than TURN from it
+    is noise) instead of turning a right angle: no single stroke on the heart turns more
+    than 60 degrees between two steps, and the flow field keeps a heading that a
+    principal direction crosses."""
+    from blobtree_ink import model as M
+    from blobtree_ink.model.marks import surface_marks
+    from blobtree_ink.pipeline import layers as LY
+    from blobtree_ink.strokes import layers as SL
+    flow = SL.direction_field("dir1")
+    v = np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    c = {"dir1": np.array([[0.0, 1.0, 0.0], [np.cos(0.5), np.sin(0.5), 0.0]]), "k1": np.array([2.0, 2.0]),
+         "k2": np.array([0.5, 0.5]), "velocity": v}
+    np.testing.assert_array_equal(flow(None, None, c), [[1.0, 0.0, 0.0], [np.cos(0.5), np.sin(0.5), 0.0]])
+    ev = M.Evaluator(load_example("heart"))
+    centre = 0.5 * (np.asarray(ev.bounds[0]) + np.asarray(ev.bounds[1]))
+    eye = centre + 3.0 * ev.scale * np.array([0.2, -0.9, 0.3])
+    cv = LY.Canvas(ev, eye, np.array([0.0, 0.0, 1.0]), 0.01, 0.032 * ev.scale)
+    turns = []
+    for p in surface_marks(ev, 0.02 * ev.scale, 5).points[::9][:60]:
+        s = LY.single_stroke(cv, ST.style("hatched"), p)
+        if s is not None:
+            d = np.diff(s.points, axis=0)
+            d /= np.linalg.norm(d, axis=1)[:, None]
+            turns.append(np.degrees(np.arccos(np.clip((d[1:] * d[:-1]).sum(1), -1, 1))).max(initial=0.0))
+    assert len(turns) > 40 and max(turns) < 60.0, sorted(turns)[-5:]
