@@ -81,11 +81,16 @@ class Followed:
         return m if self.inverse is None else self.inverse @ m
 
 
-def _in_a_scene(node, obj):
-    """The object a node follows, unless it is in no scene: deleted in the viewport (the
+def in_no_scene(obj):
+    """Whether a followed object is gone from every scene: deleted in the viewport (a
     node's pointer keeps it in bpy.data, where nothing evaluates its animation any more)
     or appended without being linked into one."""
-    if obj is not None and not obj.users_scene:
+    return obj is not None and not obj.users_scene
+
+
+def _in_a_scene(node, obj):
+    """The object a node follows (or None), unless it is in no scene (:func:`in_no_scene`)."""
+    if in_no_scene(obj):
         raise TreeError(node, f"the object '{obj.name}' it follows was deleted (it is in no scene): "
                               "link it into a scene, pick another or clear the field")
     return obj

@@ -6,9 +6,11 @@ tree's preview. A tree's followed objects are kept per tree until it is edited."
 import bpy
 
 from . import animation, changes, handlers
+from .compile import in_no_scene
 
 TREE = "BlobTreeInkNodeTree"
 _followed = {}                   # tree name -> (edit count, names of the objects its nodes follow)
+_gone = {}                       # tree name -> those of them in no scene, as last seen
 
 
 def trees():
@@ -52,12 +54,17 @@ def _frame_changed(scene, depsgraph=None):
     follow_frame(scene, depsgraph)
 
 
+def _now_gone(names):
+    """Which of these followed objects are in no scene (or no longer exist)."""
+    return frozenset(n for n in names if (o := bpy.data.objects.get(n)) is None or in_no_scene(o))
+
+
 @bpy.app.handlers.persistent
 def _depsgraph_updated(scene, depsgraph):
-    """A followed object moved: its trees' previews follow. Objects came into or left the
-    scene (a collection changed: one deleted in the viewport, or brought back by undo):
-    the trees that follow objects are compiled again (a node following one that is in no
-    scene says so)."""
+    """A followed object moved: its trees' previews follow. A followed object left every
+    scene or came back (deleted in the viewport, brought back by undo): its trees are
+    compiled again (a node following one in no scene says so). A collection or scene
+    update that changes neither (a selection, a setting) rebuilds nothing."""
     moved = {u.id.original.name for u in depsgraph.updates
              if isinstance(u.id, bpy.types.Object) and u.is_updated_transform}
     regrouped = any(isinstance(u.id, (bpy.types.Collection, bpy.types.Scene)) for u in depsgraph.updates)
@@ -65,13 +72,19 @@ def _depsgraph_updated(scene, depsgraph):
         return
     for tree in trees():
         names = followed(tree)
-        if tree.show_preview and (moved & names or regrouped and names):
+        if not names:
+            continue
+        gone = _now_gone(names) if regrouped else _gone.get(tree.name, frozenset())
+        came_or_went = gone != _gone.get(tree.name, frozenset())
+        _gone[tree.name] = gone
+        if tree.show_preview and (moved & names or came_or_went):
             changes.schedule(tree, edit=False)
 
 
 @bpy.app.handlers.persistent
 def _loaded(*_args):
     _followed.clear()
+    _gone.clear()
     scene = bpy.context.scene
     if scene is not None:
         for tree in trees():

@@ -211,6 +211,9 @@ def test_a_followed_object_deleted_in_the_viewport_is_named_on_its_node(ext, exa
     follower = next(n for n in tree.nodes if getattr(n, "center_object", None) is empty)
     changes.run_due(float("inf"))
     shape = [tuple(v.co) for v in tree.preview_object.data.vertices]
+    empty.select_set(True)                                       # a selection updates the scene ...
+    bpy.context.view_layer.update()
+    assert tree.name not in changes.pending()                    # ... and rebuilds nothing
     bpy.context.scene.collection.objects.unlink(empty)
     bpy.context.view_layer.update()                              # the delete reaches the depsgraph
     assert tree.name in changes.pending()                        # ... which schedules the tree
