@@ -3,11 +3,11 @@ be rebuilt once changes have stopped for DELAY seconds (a timer; never on every 
 of a slider drag or every frame of playback), and at the latest MAX_WAIT seconds after
 the first change it has not shown, or WAIT_PER_REBUILD times as long as its last
 rebuild took if that is longer (so the preview keeps up with playback and long drags,
-and rebuilding takes at most a third of the time however slow it is). An artist's edit is also counted: a
-running illustration stops when its tree's edit count moves. A move (the animation
-written at a new frame, a followed object moving: :func:`moving`) is not an edit. The
-state is module state keyed by tree name (not stored on Blender data or on Python
-wrappers). The rebuild itself is blobtree_nodes.preview's, which hands it in when it
+and rebuilding takes at most a third of the time however slow it is). An artist's
+edit is also counted: a running illustration stops when its tree's edit count moves.
+A move (the animation written at a new frame, a followed object moving: :func:`moving`)
+is not an edit. The state is module state keyed by tree name (not stored on Blender
+data or on Python wrappers). The rebuild itself is blobtree_nodes.preview's, which hands it in when it
 registers (:func:`on_due`)."""
 import contextlib
 import time

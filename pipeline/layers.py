@@ -15,12 +15,11 @@ from ..model import keyed
 from ..model.curvature import curvature
 from ..model.marks import surface_marks
 from ..model.projection import project
-from ..model.vectors import cross
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
 from ..strokes.data import Stroke
-from ..strokes.style import outline_strokes
+from ..strokes.style import outline_strokes, view_right
 
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
 SINGLE_STEPS = 60           # a single stroke's steps, at most
@@ -168,7 +167,7 @@ def single_stroke(cv, st, point, seed=0):
     if not on_surface(f, ev.iso, NEAR_SURFACE)[0]:
         return None
     field = L.direction_field(st.hatch_field, st.hatch_axis, cv.eye)
-    H = L.headings(ev, P, st.hatch_field, _view_right(cv.eye, P), st.hatch_axis, cv.eye)
+    H = L.headings(ev, P, st.hatch_field, view_right(cv.eye, P[0])[None], st.hatch_axis, cv.eye)
     res = sm.run(ev, P, field, STEP * cv.unit, st.resolved_weights(),
                  sm.StrokeRules(max_steps=SINGLE_STEPS, stop_on_curvature_sign=False), np.array([seed], np.uint64),
                  headings=H)
@@ -178,11 +177,3 @@ def single_stroke(cv, st, point, seed=0):
     r = cv.radius(st)
     return Stroke(p, np.full(len(p), r), np.ones(len(p)))
 
-
-def _view_right(eye, P):
-    """The view's right at points P seen from eye (up is +z; looking straight up or
-    down, +x)."""
-    right = cross(np.array([0.0, 0.0, 1.0]), np.asarray(eye, float) - P)
-    flat = ~(np.linalg.norm(right, axis=1) > 1e-12 * np.linalg.norm(np.asarray(eye, float) - P, axis=1))
-    right[flat] = [1.0, 0.0, 0.0]
-    return right / np.linalg.norm(right, axis=1, keepdims=True)

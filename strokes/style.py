@@ -124,6 +124,16 @@ UP = np.array([0.0, 0.0, 1.0])          # the world's up (Blender's z)
 ALONG = np.array([1.0, 0.35])           # open outlines run this way across the view (right, a little up)
 
 
+def view_right(eye, at):
+    """The view's right (unit) at the point ``at`` seen from ``eye``: across the line of
+    sight and the world's up (the y axis's when looking nearly straight up or down)."""
+    forward = np.asarray(at, float) - np.asarray(eye, float)
+    forward /= max(np.linalg.norm(forward), 1e-300)
+    up = UP if abs(forward @ UP) < 0.99 else np.array([0.0, 1.0, 0.0])
+    right = cross(forward, up)
+    return right / np.linalg.norm(right)
+
+
 def canonical(points, closed, eye):
     """The order an outline's points are drawn in, the same from frame to frame as the
     outline moves: a closed one anticlockwise as seen from the eye, from its topmost
@@ -135,9 +145,7 @@ def canonical(points, closed, eye):
         return order
     forward = np.mean(points, axis=0) - np.asarray(eye, float)
     forward /= max(np.linalg.norm(forward), 1e-300)
-    up = UP if abs(forward @ UP) < 0.99 else np.array([0.0, 1.0, 0.0])
-    right = cross(forward, up)
-    right /= np.linalg.norm(right)
+    right = view_right(eye, np.mean(points, axis=0))
     xy = np.stack([points @ right, points @ cross(right, forward)], axis=1)
     if not closed:
         return order[::-1] if (xy[-1] - xy[0]) @ ALONG < 0 else order

@@ -140,7 +140,7 @@ def test_a_single_stroke_sets_off_to_the_right_of_the_view(load_example):
         for p in points:
             s = LY.single_stroke(cv, st, p)
             if s is not None:
-                went.append(float(np.dot(s.points[1] - s.points[0], LY._view_right(eye, p[None])[0])))
+                went.append(float(np.dot(s.points[1] - s.points[0], ST.view_right(eye, p))))
         assert len(went) >= 10 and all(w > 0 for w in went), went
 
 
