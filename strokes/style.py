@@ -23,6 +23,7 @@ SURFACES = ("all", "convex", "concave")
 WEIGHT_NAMES = ("flow", "wander", "separation", "alignment", "cohesion", "containment")
 SPECK = 4.0           # trace steps: a visible piece of a suggestive contour or apparent ridge shorter than this
 SPECKLED = ("suggestive", "ridges")   # is not drawn (the kinds, found where a curvature peaks or vanishes)
+DOT = 4.0             # line widths: a whole outline (any kind) that fits in a box this wide draws as a dot
 
 
 @dataclass
@@ -155,14 +156,23 @@ def canonical(points, closed, eye):
     return np.roll(order, -int(np.argmax(y[order])))
 
 
+def is_dot(points, radius):
+    """Whether a polyline fits in a box whose diagonal is under DOT widths of a line of
+    that ``radius`` (then it draws as a dot, not a line)."""
+    P = np.asarray(points, float).reshape(-1, 3)
+    return len(P) == 0 or float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))) < DOT * 2.0 * radius
+
+
 def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
     """Visible parts of outlines as plain strokes, each in its :func:`canonical` order;
     with a light, the side turned from it is drawn heavier (by ``contrast``). A visible
     piece of a suggestive contour or an apparent ridge shorter than SPECK of its trace
     steps is not drawn: a speck on the paper, not a line (a silhouette's is: the end of
-    a real contour)."""
+    a real contour). Nor is a whole outline whose box's diagonal is under DOT line
+    widths (a tiny contour loop round a bump, or a scrap of one): drawn, it is a dot."""
     out = StrokeSet()
     polys, norms = [], []
+    outlines = [o for o in outlines if not is_dot(o.points, radius)]
     for o in outlines:
         order = canonical(o.points, o.closed, eye)
         pts, nrm = o.points[order], o.normals[order]

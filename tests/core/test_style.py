@@ -204,6 +204,31 @@ def test_batched_visibility_equals_one_stroke_at_a_time():
     assert many[3] == []        # too short to be a stroke
 
 
+def test_an_outline_that_would_draw_as_a_dot_is_left_out():
+    """Whole outlines that fit in a box under DOT line widths (a tiny contour loop, a
+    scrap) are not drawn; longer ones are, and what counts as a dot follows the line's
+    width."""
+    from blobtree_ink.agents.outline import Outline
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    d = 4.0
+    eye = np.array([0.0, -d, 0.0])
+    rim = K * math.sqrt(1 - (K / d) ** 2)                   # the silhouette circle, at y = -K^2 / d
+
+    def arc(length):
+        a = np.linspace(0.0, length / rim, 8)
+        P = np.stack([rim * np.cos(a), np.full_like(a, -K * K / d), rim * np.sin(a)], 1)
+        return Outline("silhouette", P, P / np.linalg.norm(P, axis=1)[:, None], False, 0.01)
+
+    short, long_ = arc(0.05), arc(0.3)
+    assert ST.is_dot(short.points, 0.01) and not ST.is_dot(short.points, 0.005)
+    assert not ST.is_dot(long_.points, 0.01)
+    for radius, drawn_arcs in ((0.01, [long_]), (0.005, [short, long_])):
+        got = ST.outline_strokes([short, long_], ev, eye, radius).layers["Silhouette"]
+        assert [len(s.points) for s in got] == [8] * len(drawn_arcs)
+        for s, o in zip(got, drawn_arcs):
+            assert np.allclose(np.sort(s.points, axis=0), np.sort(o.points, axis=0))
+
+
 @pytest.mark.parametrize("change, message", [
     (dict(hatch_field="spiral"), "hatch_field must be one of"),
     (dict(surface="flat"), "surface must be one of all, convex, concave"),
