@@ -1,6 +1,7 @@
 """The error icon of a BlobTree node: its tooltip is the node's whole error; a click
 makes the node the active one (the sidebar's Errors panel then shows its error),
-frames it when asked to, and repeats the error in the status bar."""
+frames it when asked to (in the node editor clicked in, or one showing its tree), and
+repeats the error in the status bar."""
 import bpy
 
 from .base import SHOW_ERROR, TREE
@@ -14,6 +15,18 @@ def target_node(properties):
     return tree.nodes.get(properties.node_name)
 
 
+def editor_of(context, tree):
+    """The node editor to frame the node in: the one clicked in, else one of the window
+    that shows the tree (None: no editor shows it)."""
+    areas = [context.area] if context.area is not None else []
+    if context.window is not None:
+        areas += [a for a in context.window.screen.areas if a != context.area]
+    for a in areas:
+        if a.type == "NODE_EDITOR" and a.spaces.active.edit_tree == tree:
+            return a
+    return None
+
+
 class BLOBTREE_INK_OT_show_node_error(bpy.types.Operator):
     """Why the tree cannot be compiled at this node"""
     bl_idname = SHOW_ERROR
@@ -23,7 +36,7 @@ class BLOBTREE_INK_OT_show_node_error(bpy.types.Operator):
     tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree of the node")
     node_name: bpy.props.StringProperty(name="Node", description="The node whose error is shown")
     frame: bpy.props.BoolProperty(name="Frame", default=False,
-                                  description="Also zoom the node editor to the node")
+                                  description="Also zoom a node editor showing the tree to the node")
 
     @classmethod
     def description(cls, context, properties):
@@ -42,10 +55,10 @@ class BLOBTREE_INK_OT_show_node_error(bpy.types.Operator):
             if n.select != (n == node):
                 n.select = n == node
         tree.nodes.active = node
-        area = context.area
-        if self.frame and area is not None and area.type == "NODE_EDITOR":
+        area = editor_of(context, tree) if self.frame else None
+        if area is not None:
             region = next(r for r in area.regions if r.type == "WINDOW")
-            with context.temp_override(area=area, region=region):
+            with context.temp_override(area=area, region=region, space_data=area.spaces.active):
                 bpy.ops.node.view_selected()
         if node.error:
             self.report({"WARNING"}, f"{node.name}: {node.error}")

@@ -5,7 +5,8 @@ where the model and the view stay, what was found is kept). In the UI each frame
 pipeline runs on a worker thread
 while the timer shows the progress; Esc keeps the frames finished so far. In
 background mode and from scripts it runs to the end in `execute`. The whole bake is
-one undo step; baking again replaces only the frames and layers it makes. A frame that
+one undo step; baking again replaces only the frames and layers it makes. The frame
+after the range shows no ink (frames.end_hold), not the last frame held. A frame that
 fails (the tree does not compile then, an object it follows is gone) ends the bake
 with a message naming it, the frames before it kept.
 
@@ -77,12 +78,15 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             raise FR.FrameError(f"frame {frame}: {e}") from None
 
     def _write(self, frame, result):
-        FR.write_frame(bpy.data.node_groups[self.tree_key], result, frame)
+        self.ink = FR.write_frame(bpy.data.node_groups[self.tree_key], result, frame).name
         self.done.append(frame)
         last_bake["frames"] = list(self.done)
 
     def _finish(self, state, error=None):
         self.scene.frame_set(self.frame_was)
+        ink = bpy.data.objects.get(self.ink) if self.done else None
+        if ink is not None:               # the frames after it show no ink, not the last one held
+            FR.end_hold(ink, self.done[-1])
         last_bake["state"] = state
         if error is not None:
             self.report({"ERROR"}, f"{error}; frames {self._span()} are baked" if self.done else str(error))

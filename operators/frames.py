@@ -53,6 +53,22 @@ def write_frame(tree, result, frame, rendered=False):
     return obj
 
 
+def end_hold(obj, frame):
+    """Grease Pencil holds a layer's drawing until the layer's next key: each layer that
+    shows strokes at ``frame`` and has no key on the next frame gets an empty drawing
+    there, so the frames after a bake's range, or a cleared range, show no ink instead
+    of a drawing held over a model that moved on (a render still draws them: an empty
+    drawing is no drawn frame). Returns the layers that got one."""
+    ended = []
+    for layer in obj.data.layers:
+        keys = {f.frame_number: f for f in layer.frames}
+        before = [k for k in keys if k <= frame]
+        if before and frame + 1 not in keys and len(keys[max(before)].drawing.strokes):
+            layer.frames.new(frame + 1)
+            ended.append(layer.name)
+    return ended
+
+
 def drawn_frames(tree):
     """The frames the tree's ink has a drawing of (a key on its outline layers)."""
     obj = bpy.data.objects.get(ink_name(tree))
@@ -63,14 +79,16 @@ def drawn_frames(tree):
 
 
 def clear_frames(obj, frames):
-    """Remove an ink object's drawings at ``frames`` on every layer; returns the frames
-    that had one."""
+    """Remove an ink object's drawings at ``frames`` (a range) on every layer, the frames
+    then showing no ink (:func:`end_hold`); returns the frames that had one."""
     gone = set()
     for layer in obj.data.layers:
         for f in [f.frame_number for f in layer.frames if f.frame_number in frames]:
             layer.frames.remove(f)
             gone.add(f)
     obj[RENDERED] = sorted(set(obj.get(RENDERED, [])) - frames)
+    if gone:                           # the cleared frames show no ink, not the drawing before them
+        end_hold(obj, min(frames) - 1)
     return gone
 
 

@@ -5,6 +5,9 @@ row each, and the latest run's figures."""
 import bpy
 
 from ..blackboard.board import FEATURE_KINDS
+from ..blobtree_nodes import wrap
+from ..blobtree_nodes.base import SHOW_ERROR, draw_error
+from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
 from .common import active_tree, blobtrees, ink_name
@@ -17,6 +20,29 @@ def shown_tree(context):
     tree = active_tree(context)
     trees = blobtrees()
     return tree if tree is not None else (trees[0] if trees else None)
+
+
+SHOWN_ERRORS = 3            # nodes whose error the panel spells out; the others are named
+
+
+def _draw_errors(layout, context, tree):
+    """The tree's node errors, at the top where the artist looks: each node a button that
+    makes it the active node (and frames it in the node editor), its error below it."""
+    broken = nodes_with_errors(tree)
+    if not broken:
+        return
+    col = layout.column(align=True)
+    col.alert = True
+    col.label(text=f"{len(broken)} node{'s have' if len(broken) > 1 else ' has'} an error; nothing "
+              f"is drawn until mended:", icon="ERROR")
+    width = wrap.region_text_width(context, context.region.width)
+    for n in broken[:SHOWN_ERRORS]:
+        op = col.operator(SHOW_ERROR, text=n.label or n.name, icon="NODE")
+        op.tree_name, op.node_name, op.frame = tree.name, n.name, True
+        draw_error(col, context, n, width)
+    for n in broken[SHOWN_ERRORS:]:
+        op = col.operator(SHOW_ERROR, text=n.label or n.name, icon="NODE")
+        op.tree_name, op.node_name, op.frame = tree.name, n.name, True
 
 
 def _draw_tree(layout, tree):
@@ -149,6 +175,7 @@ class VIEW3D_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
             self.layout.operator("blobtree_ink.import_json", icon="IMPORT")
             return
         self.layout.label(text=tree.name, icon="META_BALL")
+        _draw_errors(self.layout, context, tree)
         _draw_tree(self.layout, tree)
         _draw_others(self.layout, tree)
         _draw_last_run(self.layout)
@@ -164,6 +191,7 @@ class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
             context.space_data.node_tree is not None
 
     def draw(self, context):
+        _draw_errors(self.layout, context, context.space_data.node_tree)
         _draw_tree(self.layout, context.space_data.node_tree)
         _draw_last_run(self.layout)
 

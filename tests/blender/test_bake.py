@@ -33,7 +33,7 @@ def test_a_bake_draws_each_frame_on_that_frames_surface(ext, example):
     bake = mod(ext, "operators.bake").last_bake
     assert bake["state"] == "done" and bake["frames"] == [1, 2, 3, 4]
     layer = bpy.data.objects["two_spheres Ink"].data.layers["Silhouette"]
-    assert sorted(f.frame_number for f in layer.frames) == [1, 2, 3, 4]
+    assert sorted(f.frame_number for f in layer.frames) == [1, 2, 3, 4, 5]      # 5: the hold's end
     rights = []
     for frame in (1, 2, 3, 4):
         sc.frame_set(frame)
@@ -72,6 +72,32 @@ def test_baking_again_replaces_only_its_own_frames(ext, example):
     assert frames.drawn_frames(tree) == {1, 2, 3}
 
 
+def test_the_frame_after_a_bake_shows_no_ink_until_the_next_drawing(ext, example):
+    """Grease Pencil holds a layer's drawing until its next key: after a bake, each of
+    its layers gets an empty drawing on the frame after the range, unless that frame has
+    one; the empty one is no drawn frame (a render draws it) and a later bake there
+    replaces it."""
+    tree, empty = moving_spheres(example)
+    frames = mod(ext, "operators.frames")
+    obj_layers = lambda: bpy.data.objects["two_spheres Ink"].data.layers
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=6, frame_end=7) == {"FINISHED"}
+    inked = [layer for layer in obj_layers() if any(f.frame_number == 7 and len(f.drawing.strokes)
+                                                   for f in layer.frames)]
+    assert "Silhouette" in [layer.name for layer in inked]
+    for layer in inked:                        # (a layer with nothing at 7 holds nothing)
+        keys = {f.frame_number: len(f.drawing.strokes) for f in layer.frames}
+        assert sorted(keys) == [6, 7, 8] and keys[8] == 0
+    assert drawing("two_spheres", 7)["Silhouette"] and frames.drawn_frames(tree) == {6, 7}
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=2, frame_end=3) == {"FINISHED"}
+    for layer in inked:                        # 4 and 5 show nothing; 6 is still the bake's
+        keys = {f.frame_number: len(f.drawing.strokes) for f in layer.frames}
+        assert sorted(keys) == [2, 3, 4, 6, 7, 8] and keys[4] == 0
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=4, frame_end=5) == {"FINISHED"}
+    keys = {f.frame_number: len(f.drawing.strokes) for f in obj_layers()["Silhouette"].frames}
+    assert sorted(keys) == [2, 3, 4, 5, 6, 7, 8] and keys[4] > 0 and keys[5] > 0    # no end before 6's drawing
+    assert frames.drawn_frames(tree) == {2, 3, 4, 5, 6, 7}
+
+
 def test_the_bake_range_is_the_scenes_or_the_trees_and_clear_removes_frames(ext, example):
     """Bake and Clear without a range (the sidebar's buttons, the Object menu) take the
     tree's bake range: the scene's Start and End, or the tree's own."""
@@ -98,7 +124,9 @@ def test_the_bake_range_is_the_scenes_or_the_trees_and_clear_removes_frames(ext,
     assert bpy.ops.blobtree_ink.clear_frames(tree_name="two_spheres", frame_start=3, frame_end=5) == {"FINISHED"}
     assert frames.drawn_frames(tree) == {2, 6}
     obj = bpy.data.objects["two_spheres Ink"]
-    assert all(f.frame_number in (2, 6) for layer in obj.data.layers for f in layer.frames)
+    keys = {f.frame_number: len(f.drawing.strokes) for f in obj.data.layers["Silhouette"].frames}
+    assert sorted(keys) == [2, 3, 6, 7] and keys[2] and keys[6]         # 3 and 7: no ink, not 2 and 6 held
+    assert keys[3] == keys[7] == 0
     assert bpy.ops.blobtree_ink.clear_frames(tree_name="two_spheres") == {"FINISHED"}     # the tree's range: 5-6
     assert frames.drawn_frames(tree) == {2}
     with pytest.raises(RuntimeError, match="the frame range 9-8 is empty"):

@@ -213,6 +213,38 @@ def test_the_sidebar_shows_the_active_nodes_whole_error_and_lists_the_others():
     assert not mod("panels").NODE_PT_blobtree_ink_errors.poll(other_tree)
 
 
+def test_the_blobtree_ink_tab_names_the_broken_nodes_at_its_top():
+    """The BlobTree Ink tab (3D viewport and node editor), where an artist looks first,
+    starts with the tree's node errors: each node a button that selects and frames it,
+    its whole error below it; once mended, nothing of it is left."""
+    panels = import_module("bl_ext.user_default.blobtree_ink.operators.panels")
+    t = new_tree()
+    blend, out = t.nodes.new(mod("nodes").idname("blend")), t.nodes.new("BlobTreeInkOutputNode")
+    blend.label = "Body"
+    t.links.new(blend.outputs[0], out.inputs[0])
+    assert mod("compile").tree_model_or_none(t) is None and blend.error
+    space = SimpleNamespace(type="NODE_EDITOR", tree_type=t.bl_idname, node_tree=t, edit_tree=t)
+    for panel, context in (
+            (panels.NODE_PT_blobtree_ink, SimpleNamespace(space_data=space)),
+            (panels.VIEW3D_PT_blobtree_ink, SimpleNamespace(space_data=space, active_object=None))):
+        def draw():
+            rec = Layout()
+            ctx = SimpleNamespace(region=SimpleNamespace(width=300), preferences=bpy.context.preferences,
+                                  scene=bpy.context.scene, **vars(context))
+            panel.draw(SimpleNamespace(layout=rec), ctx)
+            return rec
+        rec = draw()
+        alert = [i for i in rec.of("label") if i["alert"] and i["icon"] == "ERROR"]
+        assert alert and alert[0]["text"].startswith("1 node has an error")
+        assert rec.items.index(alert[0]) < min(rec.items.index(i) for i in rec.of("prop"))   # above the settings
+        (button,) = [i for i in rec.of("operator") if i["idname"] == SHOW_ERROR and i["text"] == "Body"]
+        assert button["props"].node_name == blend.name and button["props"].frame
+        assert "".join(error_lines(rec)).replace(" ", "") == blend.error.replace(" ", "")
+        blend.set_error("")
+        assert not [i for i in draw().items if i.get("alert")]
+        blend.set_error("needs at least 1 linked input")
+
+
 def test_the_add_menu_is_searchable_and_lists_every_node_type():
     menu = mod("menu")
     assert menu.draw_in_node_add_menu in bpy.types.NODE_MT_add._dyn_ui_initialize()
