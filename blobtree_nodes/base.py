@@ -20,6 +20,12 @@ ERROR_COLOR = (0.65, 0.12, 0.12)
 SHOW_ERROR = "blobtree_ink.show_node_error"     # its tooltip is the node's whole error
 
 
+def shown_name(node):
+    """A node as the artist sees it in the editor and every message names it: its label,
+    else its name."""
+    return node.label or node.name
+
+
 def in_blobtree_editor(context):
     """The context is a node editor showing BlobTree trees."""
     return getattr(context.space_data, "tree_type", "") == TREE

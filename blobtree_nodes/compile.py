@@ -12,7 +12,7 @@ import bpy
 
 from ..model import format as F
 from . import props
-from .base import TREE
+from .base import TREE, shown_name
 from .nodes import BY_KIND
 
 class TreeError(Exception):
@@ -24,7 +24,7 @@ class TreeError(Exception):
         self.message = message
 
     def __str__(self):
-        where = f"node '{self.node.name}': " if self.node is not None else ""
+        where = f"node '{shown_name(self.node)}': " if self.node is not None else ""
         return where + self.message
 
 

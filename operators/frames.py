@@ -9,6 +9,7 @@ import bpy
 
 from .. import pipeline as PL
 from ..blobtree_nodes import preview
+from ..blobtree_nodes.base import shown_name
 from ..blobtree_nodes.compile import compile_tree, in_no_scene
 from ..blobtree_nodes.settings import style_of
 from ..grease_pencil.writer import ink_object, write
@@ -131,7 +132,7 @@ def check_followed(tree, followed, frame):
         node = tree.nodes.get(node_name)
         obj = None if node is None else getattr(node, key, None)
         if obj is None or in_no_scene(obj):
-            label = node_name if node is None else (node.label or node.name)
+            label = node_name if node is None else shown_name(node)
             raise FrameError(f"frame {frame}: the object '{obj_name}' that node '{label}' follows was "
                              "deleted")
 

@@ -6,7 +6,7 @@ import bpy
 
 from ..blackboard.board import FEATURE_KINDS
 from ..blobtree_nodes import wrap
-from ..blobtree_nodes.base import SHOW_ERROR, draw_error
+from ..blobtree_nodes.base import SHOW_ERROR, draw_error, shown_name
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
@@ -33,15 +33,18 @@ def _draw_errors(layout, context, tree):
         return
     col = layout.column(align=True)
     col.alert = True
-    col.label(text=f"{len(broken)} node{'s have' if len(broken) > 1 else ' has'} an error; nothing "
-              f"is drawn until mended:", icon="ERROR")
     width = wrap.region_text_width(context, context.region.width)
+    many = len(broken) > 1
+    head = f"{len(broken)} node{'s' if many else ''} with an error: nothing new is drawn until " \
+        f"{'they are' if many else 'it is'} mended"
+    for i, line in enumerate(wrap.lines(head, width, context)):
+        col.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
     for n in broken[:SHOWN_ERRORS]:
-        op = col.operator(SHOW_ERROR, text=n.label or n.name, icon="NODE")
+        op = col.operator(SHOW_ERROR, text=shown_name(n), icon="NODE")
         op.tree_name, op.node_name, op.frame = tree.name, n.name, True
         draw_error(col, context, n, width)
     for n in broken[SHOWN_ERRORS:]:
-        op = col.operator(SHOW_ERROR, text=n.label or n.name, icon="NODE")
+        op = col.operator(SHOW_ERROR, text=shown_name(n), icon="NODE")
         op.tree_name, op.node_name, op.frame = tree.name, n.name, True
 
 

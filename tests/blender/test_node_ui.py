@@ -235,7 +235,7 @@ def test_the_blobtree_ink_tab_names_the_broken_nodes_at_its_top():
             return rec
         rec = draw()
         alert = [i for i in rec.of("label") if i["alert"] and i["icon"] == "ERROR"]
-        assert alert and alert[0]["text"].startswith("1 node has an error")
+        assert alert and alert[0]["text"].startswith("1 node with an error")
         assert rec.items.index(alert[0]) < min(rec.items.index(i) for i in rec.of("prop"))   # above the settings
         (button,) = [i for i in rec.of("operator") if i["idname"] == SHOW_ERROR and i["text"] == "Body"]
         assert button["props"].node_name == blend.name and button["props"].frame
