@@ -97,7 +97,7 @@ def main():
                     subprocess.run(["xdotool", "key", k], env=env, check=True)
                     time.sleep(r.get("pause", 0.2))
             elif r["action"] == "type":
-                subprocess.run(["xdotool", "type", "--delay", "120", r["text"]], env=env, check=True)
+                subprocess.run(["xdotool", "type", "--delay", "120", "--", r["text"]], env=env, check=True)
                 time.sleep(r.get("pause", 0.2))
             elif r["action"] == "mouse":
                 subprocess.run(["xdotool", "mousemove", str(r["x"]), str(r["y"])], env=env, check=True)
