@@ -64,9 +64,10 @@ class BLOBTREE_INK_OT_show_node_error(bpy.types.Operator):
     bl_label = "Node Error"
     bl_options = {"INTERNAL"}
 
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree of the node")
-    node_name: bpy.props.StringProperty(name="Node", description="The node whose error is shown")
-    frame: bpy.props.BoolProperty(name="Frame", default=False,
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
+                                        description="The BlobTree node tree of the node")
+    node_name: bpy.props.StringProperty(name="Node", options={"SKIP_SAVE"}, description="The node whose error is shown")
+    frame: bpy.props.BoolProperty(name="Frame", default=False, options={"SKIP_SAVE"},
                                   description="Also zoom a node editor showing the tree to the node")
 
     @classmethod

@@ -11,7 +11,7 @@ class BLOBTREE_INK_OT_activate_tree(bpy.types.Operator):
     bl_label = "Work on BlobTree"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree")
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"}, description="The BlobTree node tree")
 
     def execute(self, context):
         try:

@@ -14,8 +14,9 @@ class BLOBTREE_INK_OT_apply_preset(bpy.types.Operator):
     bl_label = "Apply Illustration Preset"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
-    preset: bpy.props.EnumProperty(name="Preset", items=PRESET_ITEMS, description="The look")
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
+                                        description="The BlobTree node tree (empty: the active one)")
+    preset: bpy.props.EnumProperty(name="Preset", items=PRESET_ITEMS, options={"SKIP_SAVE"}, description="The look")
 
     def execute(self, context):
         try:

@@ -34,7 +34,8 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
     bl_label = "Bake BlobTree Illustration"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
+                                        description="The BlobTree node tree (empty: the active one)")
     # unset, each call takes the tree's bake range (never the last call's); once resolved
     # they hold the range baked, which Adjust Last Operation shows and bakes again
     frame_start: bpy.props.IntProperty(name="Start", default=1, options={"SKIP_SAVE"},

@@ -13,10 +13,11 @@ class BLOBTREE_INK_OT_clear_frames(bpy.types.Operator):
     bl_label = "Clear BlobTree Ink Frames"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
-    frame_start: bpy.props.IntProperty(name="Start", default=1,
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
+                                        description="The BlobTree node tree (empty: the active one)")
+    frame_start: bpy.props.IntProperty(name="Start", default=1, options={"SKIP_SAVE"},
                                        description="First frame to clear (unset: the tree's bake range)")
-    frame_end: bpy.props.IntProperty(name="End", default=250,
+    frame_end: bpy.props.IntProperty(name="End", default=250, options={"SKIP_SAVE"},
                                      description="Last frame to clear (unset: the tree's bake range)")
 
     def execute(self, context):

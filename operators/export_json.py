@@ -14,8 +14,9 @@ class BLOBTREE_INK_OT_export_json(bpy.types.Operator, ExportHelper):
 
     filename_ext = ".json"
     filter_glob: bpy.props.StringProperty(default="*.json", options={"HIDDEN"})
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree to export "
-                                        "(default: the one in the node editor, or the only one)")
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
+                                        description="The BlobTree node tree to export (default: the one in the "
+                                                    "node editor, or the only one)")
 
     def execute(self, context):
         try:

@@ -63,9 +63,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     bl_label = "Illustrate BlobTree"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree", description="The BlobTree node tree (empty: the active one)")
-    request: bpy.props.EnumProperty(name="Request", items=REQUESTS, default="OUTLINES")
-    preset: bpy.props.EnumProperty(name="Preset", default=NO_PRESET,
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
+                                        description="The BlobTree node tree (empty: the active one)")
+    request: bpy.props.EnumProperty(name="Request", items=REQUESTS, default="OUTLINES", options={"SKIP_SAVE"})
+    preset: bpy.props.EnumProperty(name="Preset", default=NO_PRESET, options={"SKIP_SAVE"},
                                    description="Set the tree's style to this look first and draw it",
                                    items=[(NO_PRESET, "None", "Draw with the tree's style as it is")] +
                                          [(k, k.replace("_", " ").title(), PRESET_TIPS[k]) for k in PRESETS])
@@ -73,7 +74,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     @classmethod
     def description(cls, context, properties):
         if properties.preset != NO_PRESET:
-            return f"Draw the {properties.preset.replace('_', ' ').lower()} look: {PRESET_TIPS[properties.preset]}"
+            return (f"Draw the {properties.preset.replace('_', ' ').lower()} look: {PRESET_TIPS[properties.preset]}. "
+                    "What other looks and requests drew stays (Ink Layers hides or clears it)")
         return REQUEST_TIPS[properties.request]
 
     # --- setting up ------------------------------------------------------------------

@@ -10,6 +10,7 @@ from ..blobtree_nodes.base import SHOW_ERROR, draw_error, shown_name
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
+from .clear_layer import shown_key
 from .common import active_tree, blobtrees, ink_name
 from .illustrate import REQUESTS, last_run
 from .menus import REQUEST_ICONS
@@ -138,13 +139,16 @@ def _draw_layers(layout, tree):
         op = row.operator("blobtree_ink.toggle_layer", text=f"{layer.name} ({n})",
                           icon="HIDE_ON" if layer.hide else "HIDE_OFF", depress=n > 0 and not layer.hide)
         op.object_name, op.layer = obj.name, layer.name
+        clear = row.row(align=True)
+        clear.enabled = n > 0
+        op = clear.operator("blobtree_ink.clear_layer", text="", icon="X")
+        op.object_name, op.layer = obj.name, layer.name
 
 
 def _strokes_at(layer, frame):
-    """The strokes of a layer's drawing shown at a frame (its last keyframe at or before
-    it; 0 before its first)."""
-    shown = [fr for fr in layer.frames if fr.frame_number <= frame]
-    return len(max(shown, key=lambda fr: fr.frame_number).drawing.strokes) if shown else 0
+    """The strokes of a layer's drawing shown at a frame (0 before its first key)."""
+    key = shown_key(layer, frame)
+    return len(key.drawing.strokes) if key is not None else 0
 
 
 def _draw_last_run(layout):

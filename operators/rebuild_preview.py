@@ -12,7 +12,7 @@ class BLOBTREE_INK_OT_rebuild_preview(bpy.types.Operator):
     bl_label = "Rebuild Preview"
     bl_options = {"REGISTER", "UNDO"}
 
-    tree_name: bpy.props.StringProperty(name="Tree")
+    tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"})
 
     def execute(self, context):
         try:

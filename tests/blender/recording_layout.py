@@ -42,7 +42,7 @@ class Layout:
     def operator(self, idname, text=None, icon="NONE", **kw):
         props = SimpleNamespace()
         self.items.append(dict(kind="operator", path=self.path, idname=idname, text=text, icon=icon,
-                               props=props, **kw))
+                               props=props, enabled=self.enabled, **kw))
         return props
 
     def menu(self, menu, **kw):

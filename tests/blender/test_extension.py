@@ -64,3 +64,22 @@ def test_every_test_starts_factory_empty():
 
 def test_and_leaves_nothing_behind():
     assert len(bpy.data.node_groups) == 0
+
+
+def test_what_a_button_leaves_unset_is_not_the_last_calls(ext):
+    """Blender gives a property a button or menu item does not set the value of the last
+    call from the UI, unless it is SKIP_SAVE: a request button after a Look ran the Look
+    again, and a menu item after a sidebar button worked on that button's tree. Every
+    operator's tree, request, look, node and frame range is the call's own."""
+    import sys
+    ops = {c for name, m in list(sys.modules.items()) if name.startswith(ext.__name__ + ".")
+           for c in getattr(m, "classes", ()) if isinstance(c, type) and issubclass(c, bpy.types.Operator)}
+    own = {"tree_name", "request", "preset", "node_name", "frame", "frame_start", "frame_end"}
+    checked = []
+    for op in ops:
+        group, name = op.bl_idname.split(".")
+        for p in getattr(getattr(bpy.ops, group), name).get_rna_type().properties:
+            if p.identifier in own:
+                checked.append((op.bl_idname, p.identifier))
+                assert p.is_skip_save, f"{op.bl_idname}.{p.identifier} is remembered from the last call"
+    assert ("blobtree_ink.illustrate", "preset") in checked and len({o for o, _ in checked}) >= 8

@@ -128,3 +128,30 @@ def test_place_strokes_uses_the_tree_style_and_the_scene_sun(example):
     assert pts[:, 0].max() < 0.66 * 0.4543 and pts[:, 0].min() < -0.4
     radii = np.array([p.radius for s in layers["Hatching"] for p in s.points])
     assert radii.min() < 0.8 * radii.max()          # width follows the light
+
+
+def test_ink_layers_clears_one_layer_at_this_frame(example):
+    """Ink Layers has a clear button per layer, greyed out where the layer is empty: it
+    removes that layer's strokes at this frame (one undo step); the other layers stay."""
+    from types import SimpleNamespace
+
+    from recording_layout import Layout
+    panels = __import__("bl_ext.user_default.blobtree_ink.operators.panels", fromlist=["x"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree = bpy.data.node_groups["pear"]
+    tree.ink.grid_resolution = 12
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
+    before = ink("pear")
+    assert len(before["Stipples"]) > 50 and before["Silhouette"]
+    rec = Layout()
+    panels._draw_layers(rec, tree)
+    clears = {i["props"].layer: i for i in rec.of("operator") if i["idname"] == "blobtree_ink.clear_layer"}
+    assert set(clears) == {layer.name for layer in bpy.data.objects["pear Ink"].data.layers}
+    assert clears["Stipples"]["props"].object_name == "pear Ink"
+    enabled = {k for k, i in clears.items() if i["enabled"]}
+    assert enabled == {k for k, v in before.items() if v} and "Stipples" in enabled and "Hatching" not in enabled
+    assert bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Stipples") == {"FINISHED"}
+    after = ink("pear")
+    assert after["Stipples"] == [] and len(after["Silhouette"]) == len(before["Silhouette"])
+    with pytest.raises(RuntimeError, match="no ink layer 'Nope' on 'pear Ink'"):
+        bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Nope")

@@ -259,6 +259,9 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
     assert runs["hatched_esc"]["fraction"] < 1.0
     every = {"Silhouette": True, "Crease": True, "Curvature": True, "Stipples": True}
     assert facts["same_after_esc"] == every and facts["same_after_full"] == every
+    # a request after a look: the look's settings were not applied again, its hatching kept
+    assert runs["outlines_after_look"]["state"] == "done" and facts["hatching_after_request"] is False
+    assert facts["counts_after_request"]["Hatching"] == full["Hatching"]
     # 6. F12 in the scene's engine (EEVEE in factory settings), then in Workbench
     renders = facts["renders"]
     assert renders["scene"]["engine"] == "BLENDER_EEVEE" and renders["workbench"]["engine"] == "BLENDER_WORKBENCH"

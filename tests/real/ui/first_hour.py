@@ -24,7 +24,8 @@ sent by xdotool wherever the UI allows. Python set-up (and why) is marked [Pytho
 5. The runner's hook armed in the hatching [Python: CHUNK 40, so that the hatching has
    dozens of parts; held after 20 of them]; F3, "hatched", Return; when the worker holds
    and its parts are drawn: a screenshot, Escape, the run's end. Then F3 "hatched" again,
-   to its end (the full count).
+   to its end (the full count). Then the style's hatching switched off [Python] and F3
+   "trace feature outlines" again: the outlines alone, the hatched look not run again.
 6. F12 with the mouse over the 3D viewport in the scene's engine (EEVEE in factory
    settings) [Python: the resolution at 50 %, 960 x 540; the Render Result saved with
    save_render]; the engine switched to Workbench [Python] and F12 again, with the mouse
@@ -303,6 +304,11 @@ def run():
     on_screen["hatching"] = in_viewport(win, vregion, rv3d, ink, drawing_of(ink, "Hatching"))
     with open(os.path.join(OUT, "viewport_points.json"), "w") as fh:
         json.dump(on_screen, fh)
+    # a request after a look is that request: the look is not run again (Blender gives an
+    # operator property a menu item leaves unset the last call's value unless SKIP_SAVE)
+    tree.ink.hatching = False                                      # [Python] a change the look would undo
+    runs["outlines_after_look"] = yield from run_look(ill, win, vregion, "trace feature outlines", 240)
+    record(hatching_after_request=tree.ink.hatching, counts_after_request=counts(ink))
     record(runs={k: {f: v.get(f) for f in ("state", "strokes", "stage", "fraction", "iterations")}
                  for k, v in runs.items()})
 
