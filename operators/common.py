@@ -35,14 +35,29 @@ def active_tree(context):
     return tree_of_object(getattr(context, "active_object", None))
 
 
+_focus = []                   # the name of the tree the artist last worked on (see focus)
+
+
+def focus(tree=None):
+    """Remember ``tree`` as the one the artist works on (the sidebar shows it while no
+    BlobTree object is active: its preview may be off); without one, that tree (None
+    when it is gone)."""
+    if tree is not None:
+        _focus[:] = [tree.name]
+        return tree
+    t = bpy.data.node_groups.get(_focus[0]) if _focus else None
+    return t if t is not None and t.bl_idname == TREE else None
+
+
 def context_tree(context, name=""):
-    """The tree named ``name``, else the active one (:func:`active_tree`), else the only one."""
+    """The tree named ``name``, else the active one (:func:`active_tree`), else the one
+    last worked on (:func:`focus`, as the sidebar shows it), else the only one."""
     if name:
         t = bpy.data.node_groups.get(name)
         if t is None or t.bl_idname != TREE:
             raise LookupError(f"no BlobTree node tree named '{name}'")
         return t
-    t = active_tree(context)
+    t = active_tree(context) or focus()
     if t is not None:
         return t
     trees = blobtrees()

@@ -183,6 +183,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     def _tick(self, context, event):
         if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS" and self.stopping is None:
             self.stopping = "stopped"
+            self.stopped_at = last_run.get("fraction", 0.0)      # the share done when Esc was pressed
             self.runner.stop()             # the worker draws the visible outlines so far, then ends
             return {"RUNNING_MODAL"}
         if event.type != "TIMER":
@@ -244,6 +245,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             if result is not self.shown:
                 self._write(result)        # what was made, kept
             self._figures(result.progress)
+            if state == "stopped":         # how far it had come when Esc was pressed
+                last_run["fraction"] = min(last_run["fraction"], self.stopped_at)
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
         self._report_done(state, warnings + self.runner.notes)

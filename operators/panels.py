@@ -11,16 +11,19 @@ from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
 from .clear_layer import shown_key
-from .common import active_tree, blobtrees, ink_name
+from .common import active_tree, blobtrees, focus, ink_name
 from .illustrate import REQUESTS, last_run
 from .menus import REQUEST_ICONS
 
 
 def shown_tree(context):
-    """The tree the panels show: the active one, else the only one, else the first."""
+    """The tree the panels show: the active one (common.active_tree), else the one last
+    worked on (common.focus: its preview may be off), else the first."""
     tree = active_tree(context)
+    if tree is not None:
+        return focus(tree)
     trees = blobtrees()
-    return tree if tree is not None else (trees[0] if trees else None)
+    return focus() or (trees[0] if trees else None)
 
 
 SHOWN_ERRORS = 3            # nodes whose error the panel spells out; the others are named
@@ -151,8 +154,8 @@ def _strokes_at(layer, frame):
     return len(key.drawing.strokes) if key is not None else 0
 
 
-def _draw_last_run(layout):
-    if not last_run:
+def _draw_last_run(layout, tree):
+    if last_run.get("tree") != tree.name:          # (the latest run was another tree's)
         return
     col = layout.column(align=True)
     state, pct = last_run.get("state", ""), 100 * last_run.get("fraction", 0.0)
@@ -185,7 +188,7 @@ class VIEW3D_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
         _draw_errors(self.layout, context, tree)
         _draw_tree(self.layout, tree)
         _draw_others(self.layout, tree)
-        _draw_last_run(self.layout)
+        _draw_last_run(self.layout, tree)
 
 
 class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
@@ -198,9 +201,10 @@ class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
             context.space_data.node_tree is not None
 
     def draw(self, context):
+        focus(context.space_data.node_tree)
         _draw_errors(self.layout, context, context.space_data.node_tree)
         _draw_tree(self.layout, context.space_data.node_tree)
-        _draw_last_run(self.layout)
+        _draw_last_run(self.layout, context.space_data.node_tree)
 
 
 def _sub_panel(space, parent, ident, label, draw, closed=False):

@@ -201,6 +201,41 @@ def test_the_sidebar_switches_the_preview_off_and_on(ext, example):
     assert tree.preview_object is not None and len(tree.preview_object.data.vertices) > 100
 
 
+def test_the_sidebar_keeps_a_tree_whose_preview_is_off_and_reaches_it(ext, example):
+    """Switching a tree's preview off (its object goes) leaves the 3D sidebar on that tree,
+    not on another; Other BlobTrees reaches a tree without preview or ink (nothing to
+    select), and requests without a tree name work on the tree the sidebar shows."""
+    from types import SimpleNamespace
+
+    from recording_layout import Layout
+    changes = mod(ext, "blobtree_nodes.changes")
+    panel = mod(ext, "operators.panels").VIEW3D_PT_blobtree_ink
+
+    def shown():
+        rec = Layout()
+        panel.draw(SimpleNamespace(layout=rec), bpy.context)
+        others = [i["props"].tree_name for i in rec.of("operator") if i["idname"] == "blobtree_ink.activate_tree"]
+        return rec.of("label")[0]["text"], others
+
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    tree, a, b = two_spheres(example)
+    changes.run_due(float("inf"))
+    assert bpy.context.view_layer.objects.active == tree.preview_object
+    assert shown() == ("two_spheres", ["pear"])
+    tree.show_preview = False                                    # the artist's click in the sidebar
+    changes.run_due(float("inf"))
+    assert bpy.context.view_layer.objects.active is None and shown() == ("two_spheres", ["pear"])
+    assert bpy.ops.blobtree_ink.activate_tree(tree_name="pear") == {"FINISHED"}
+    pear = bpy.data.node_groups["pear"]
+    assert bpy.context.view_layer.objects.active == pear.preview_object and shown() == ("pear", ["two_spheres"])
+    assert bpy.ops.blobtree_ink.activate_tree(tree_name="two_spheres") == {"FINISHED"}    # no preview, no ink
+    assert bpy.context.view_layer.objects.active is None and not pear.preview_object.select_get()
+    assert shown() == ("two_spheres", ["pear"])
+    tree.ink.grid_resolution = 12
+    assert bpy.ops.blobtree_ink.illustrate(request="OUTLINES") == {"FINISHED"}          # no tree named
+    assert bpy.data.objects.get("two_spheres Ink") is not None and bpy.data.objects.get("pear Ink") is None
+
+
 def test_a_followed_object_deleted_in_the_viewport_is_named_on_its_node(ext, example):
     """Delete in the viewport unlinks the Empty from the scene while the node's pointer
     keeps it: the tree does not compile, the node says which object is gone and why, and
