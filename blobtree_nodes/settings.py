@@ -133,7 +133,7 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
     grid_resolution: bpy.props.IntProperty(
         name="Grid", default=_RunSettings.resolution, min=8, max=128,
         description="Resolution of the agents' blackboard: about Grid^3 cubic cells over the model (finer finds "
-                    "smaller features and takes longer)")
+                    "smaller features and takes longer; the strokes' density stays)")
     agents: bpy.props.IntProperty(
         name="Agents", default=_RunSettings.agents, min=1, max=10000,
         description="Agents stepped together each system iteration (more agents: fewer, larger iterations)")

@@ -14,8 +14,9 @@ from ..model.vectors import cross
 
 LINE_RADIUS = 0.0014        # a line's radius, as a fraction of the model's size (about 1.1 px at 1024 px
                             # in the command line's three-quarter view)
-STROKE_UNIT = 0.64          # the strokes' unit of length, as a fraction of the model's size over the
-                            # grid resolution (about a blackboard cell)
+STROKE_UNIT = 0.64          # the strokes' unit of length, as a fraction of the model's size over
+UNIT_GRID = 20              # this grid resolution (about a cell of the default grid; the grid the agents
+                            # use changes the outlines' detail, never the strokes' density)
 LENS, SENSOR, MARGIN = 50.0, 36.0, 1.15     # the framing camera: focal length and sensor width (mm), margin
 
 
@@ -44,9 +45,9 @@ def line_radius(ev):
     return LINE_RADIUS * size(ev)
 
 
-def stroke_unit(ev, resolution):
-    """The strokes' unit of length at a grid resolution (pipeline.layers)."""
-    return STROKE_UNIT * size(ev) / resolution
+def stroke_unit(ev):
+    """The strokes' unit of length (pipeline.layers)."""
+    return STROKE_UNIT * size(ev) / UNIT_GRID
 
 
 def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, sensor=SENSOR, margin=MARGIN):

@@ -197,7 +197,7 @@ class Illustration:
                               for r in j.requests)
         self.line_radius = line_radius(self.ev)
         self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius,
-                                stroke_unit(self.ev, j.settings.resolution),
+                                stroke_unit(self.ev),
                                 settled=prev is not None and prev.ev is self.ev)
         self.session = Session(self.ev, View(eye=self.eye), j.settings,
                                previous=prev.session if prev is not None else None, remember=self.remember)

@@ -46,7 +46,7 @@ class Style:
     chain_step: int = 3                  # every n-th chain point starts a stroke
     chain_angle: float = 90.0            # degrees between the chain and its strokes
     chain_field: str = "straight"
-    chain_distance: float = 3.0          # in blackboard cells from the feature line
+    chain_distance: float = 3.0          # from the feature line, in stroke units (about a default grid cell)
     stipple_every: int = 3
     line_width: float = 1.0              # times the base line radius
     contrast: float = 1.0                # 0: uniform strokes; 1: radius and opacity follow the shade

@@ -157,6 +157,6 @@ def test_no_pop_where_one_chunk_of_frames_ends_and_the_next_begins():
         assert all(np.array_equal(x.points, y.points) for x, y in zip(a, b)), layer
     sil = [np.concatenate([s.points for s in r[3].strokes.layers["Silhouette"]]) for r in (whole, chunk)]
     from blobtree_ink.strokes.smarticles import nearest_distance
-    cell = PL.framing.stroke_unit(M.Evaluator(model(3)), 16)            # about a blackboard cell
+    cell = PL.framing.stroke_unit(M.Evaluator(model(3)))               # about a blackboard cell
     assert min(np.mean(nearest_distance(sil[0], sil[1]) < 0.5 * cell),
                np.mean(nearest_distance(sil[1], sil[0]) < 0.5 * cell)) > 0.98
