@@ -10,7 +10,7 @@ from .common import context_tree
 class BLOBTREE_INK_OT_export_json(bpy.types.Operator, ExportHelper):
     """Export a BlobTree node tree as a blobtree-1 JSON model"""
     bl_idname = "blobtree_ink.export_json"
-    bl_label = "Export BlobTree (.json)"
+    bl_label = "Export BlobTree"          # (the file browser's button: short enough to show whole)
 
     filename_ext = ".json"
     filter_glob: bpy.props.StringProperty(default="*.json", options={"HIDDEN"})

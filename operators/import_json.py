@@ -13,7 +13,7 @@ from .common import TREE, show_in_node_editor
 class BLOBTREE_INK_OT_import_json(bpy.types.Operator, ImportHelper):
     """Import a BlobTree model (blobtree-1 JSON) as a node tree"""
     bl_idname = "blobtree_ink.import_json"
-    bl_label = "Import BlobTree (.json)"
+    bl_label = "Import BlobTree"          # (the file browser's button: short enough to show whole)
     bl_options = {"REGISTER", "UNDO"}
 
     filename_ext = ".json"
