@@ -102,6 +102,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         model = compile_tree(tree)
         self.placement = jobs.placement(tree)
         inverse = self.placement.inverted_safe()
+        self.from_camera = ink.use_camera
         if ink.use_camera:
             eye = jobs.camera_eye(context.scene)
         else:
@@ -249,7 +250,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                 last_run["fraction"] = min(last_run["fraction"], self.stopped_at)
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
-        self._report_done(state, warnings + self.runner.notes)
+        self._report_done(state, warnings + self.runner.notes, camera_hint(context, self.from_camera))
         return {"FINISHED"}                # keep what was made, as one undo step
 
     def cancel(self, context):
@@ -270,12 +271,22 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             region_overlay.show(self.tree_key, [])
             last_run["state"] = "cancelled"
 
-    def _report_done(self, state, warnings=()):
+    def _report_done(self, state, warnings=(), hint=""):
         last_run["state"] = state
         for w in warnings:
             self.report({"WARNING"}, w)
         traced = f", the outlines after {last_run['iterations']} iterations" if last_run["iterations"] else ""
-        self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes{traced}")
+        self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes{traced}{hint}")
+
+
+def camera_hint(context, from_camera):
+    """What the report adds when the ink was drawn for the scene camera while the 3D
+    viewport it was asked from looks from elsewhere (its lines then lie off the view's
+    outlines, and hidden ones can show): how to see it as drawn."""
+    r3d = getattr(getattr(context, "space_data", None), "region_3d", None)
+    if from_camera and r3d is not None and r3d.view_perspective != "CAMERA":
+        return "; drawn as the scene camera sees it (Numpad 0 looks through it)"
+    return ""
 
 
 classes = (BLOBTREE_INK_OT_illustrate,)

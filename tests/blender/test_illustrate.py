@@ -155,3 +155,14 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     assert after["Stipples"] == [] and len(after["Silhouette"]) == len(before["Silhouette"])
     with pytest.raises(RuntimeError, match="no ink layer 'Nope' on 'pear Ink'"):
         bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Nope")
+
+
+def test_a_run_from_the_camera_says_so_in_a_viewport_that_looks_from_elsewhere(ext):
+    """Drawn for the scene camera (From Camera) while the viewport looks from elsewhere,
+    the ink lies off the view's outlines: the report says how to see it as drawn."""
+    from types import SimpleNamespace
+    hint = __import__(f"{ext.__name__}.operators.illustrate", fromlist=["x"]).camera_hint
+    view = lambda p: SimpleNamespace(space_data=SimpleNamespace(region_3d=SimpleNamespace(view_perspective=p)))
+    assert hint(view("PERSP"), True) == "; drawn as the scene camera sees it (Numpad 0 looks through it)"
+    assert hint(view("CAMERA"), True) == hint(view("PERSP"), False) == ""
+    assert hint(SimpleNamespace(space_data=None), True) == ""                  # not from a 3D viewport
