@@ -27,17 +27,27 @@ def shown_tree(context):
 
 
 SHOWN_ERRORS = 3            # nodes whose error the panel spells out; the others are named
+NO_OUTPUT = "The tree has no Model Output: add one (Shift+A in the node editor, Output) and link the model to it"
+
+
+def has_output(tree):
+    return any(n.bl_idname == "BlobTreeInkOutputNode" and not n.mute for n in tree.nodes)
 
 
 def _draw_errors(layout, context, tree):
     """The tree's node errors, at the top where the artist looks: each node a button that
     makes it the active node (and frames it in the node editor), its error below it."""
     broken = nodes_with_errors(tree)
+    width = wrap.region_text_width(context, context.region.width)
+    if not has_output(tree):                       # (a new tree has no node: nothing says what it needs)
+        col = layout.column(align=True)
+        col.alert = True
+        for i, line in enumerate(wrap.lines(NO_OUTPUT, width, context)):
+            col.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
     if not broken:
         return
     col = layout.column(align=True)
     col.alert = True
-    width = wrap.region_text_width(context, context.region.width)
     many = len(broken) > 1
     head = f"{len(broken)} node{'s' if many else ''} with an error: nothing new is drawn until " \
         f"{'they are' if many else 'it is'} mended"

@@ -245,6 +245,23 @@ def test_the_blobtree_ink_tab_names_the_broken_nodes_at_its_top():
         blend.set_error("needs at least 1 linked input")
 
 
+def test_the_blobtree_ink_tab_says_a_new_tree_needs_a_model_output():
+    """A new tree has no node: the tab says what it needs; with a Model Output it does not."""
+    panels = import_module("bl_ext.user_default.blobtree_ink.operators.panels")
+    t = new_tree()
+    space = SimpleNamespace(type="NODE_EDITOR", tree_type=t.bl_idname, node_tree=t, edit_tree=t)
+    ctx = SimpleNamespace(space_data=space, region=SimpleNamespace(width=300), preferences=bpy.context.preferences,
+                          scene=bpy.context.scene)
+
+    def alerts():
+        rec = Layout()
+        panels.NODE_PT_blobtree_ink.draw(SimpleNamespace(layout=rec), ctx)
+        return " ".join(i["text"] for i in rec.of("label") if i["alert"])
+    assert alerts().replace(" ", "") == panels.NO_OUTPUT.replace(" ", "") and "Model Output" in alerts()
+    t.nodes.new("BlobTreeInkOutputNode")
+    assert "no Model Output" not in alerts()
+
+
 def test_the_add_menu_is_searchable_and_lists_every_node_type():
     menu = mod("menu")
     assert menu.draw_in_node_add_menu in bpy.types.NODE_MT_add._dyn_ui_initialize()
