@@ -35,11 +35,14 @@ def has_output(tree):
 
 
 def _draw_errors(layout, context, tree):
-    """The tree's node errors, at the top where the artist looks: each node a button that
-    makes it the active node (and frames it in the node editor), its error below it."""
-    broken = nodes_with_errors(tree)
+    """What keeps the tree from compiling, at the top where the artist looks: no Model
+    Output, and the nodes with an error, each a button that makes it the active node
+    (and brings it into view in the node editor), its error below it."""
+    broken, output = nodes_with_errors(tree), has_output(tree)
+    if output and not broken:
+        return
     width = wrap.region_text_width(context, context.region.width)
-    if not has_output(tree):                       # (a new tree has no node: nothing says what it needs)
+    if not output:                                 # (a new tree has no node: nothing says what it needs)
         col = layout.column(align=True)
         col.alert = True
         for i, line in enumerate(wrap.lines(NO_OUTPUT, width, context)):
