@@ -213,6 +213,16 @@ def compile_tree(tree, mark=True, depsgraph=None):
     return model
 
 
+def same_model(tree, document):
+    """Whether the tree still makes ``document`` (its blobtree-1 document taken before):
+    edits counted since then changed nothing of the model (its Live Preview switched,
+    its collection set when its first ink was drawn)."""
+    try:
+        return tree_document(tree)[0] == document
+    except (TreeError, RecursionError):
+        return False
+
+
 def _friendly(kind, detail):
     # "radius: must be > 0, got 0" -> "Influence Radius must be > 0, got 0"
     key, _, rest = detail.partition(":")

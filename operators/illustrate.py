@@ -26,7 +26,7 @@ import bpy
 
 from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview
-from ..blobtree_nodes.compile import TreeError, compile_tree
+from ..blobtree_nodes.compile import TreeError, compile_tree, same_model, tree_document
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
 from ..grease_pencil.writer import ink_object, stroke_count, write
 from ..strokes.data import LAYER_OF_KIND
@@ -115,6 +115,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                        inverse=inverse)
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
+        self.document = tree_document(tree)[0]
         jobs.on_paper(context, tree)
         obj = ink_object(ink_name(tree), preview.tree_collection(tree))
         jobs.attach(obj, tree)
@@ -191,6 +192,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return {"PASS_THROUGH"}
         t0 = time.perf_counter()
         tree = bpy.data.node_groups.get(self.tree_key)
+        if self.stopping is None and tree is not None and changes.edits(tree) != self.edits0 \
+                and same_model(tree, self.document):
+            self.edits0 = changes.edits(tree)   # (a change of no value of the model, e.g. the run's own writes)
         if self.stopping is None and (tree is None or changes.edits(tree) != self.edits0):
             self.report({"WARNING"}, "the BlobTree changed: illustration stopped")
             self.stopping = "tree edited"
@@ -276,7 +280,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         for w in warnings:
             self.report({"WARNING"}, w)
         traced = f", the outlines after {last_run['iterations']} iterations" if last_run["iterations"] else ""
-        self.report({"INFO"}, f"Illustration {state}: {last_run.get('strokes', 0)} strokes{traced}{hint}")
+        n = last_run.get("strokes", 0)
+        self.report({"INFO"}, f"Illustration {state}: {n} stroke{'' if n == 1 else 's'}{traced}{hint}")
 
 
 def camera_hint(context, from_camera):

@@ -166,3 +166,26 @@ def test_a_run_from_the_camera_says_so_in_a_viewport_that_looks_from_elsewhere(e
     assert hint(view("PERSP"), True) == "; drawn as the scene camera sees it (Numpad 0 looks through it)"
     assert hint(view("CAMERA"), True) == hint(view("PERSP"), False) == ""
     assert hint(SimpleNamespace(space_data=None), True) == ""                  # not from a 3D viewport
+
+
+def test_a_running_illustration_stops_only_for_a_change_of_the_model(ext, example):
+    """A run stops when the tree's model changes, not for every counted edit of the tree
+    (a run once stopped at once, as 'tree edited', though nothing of the model changed):
+    the tree's document is compared with the one the run started from."""
+    comp = __import__(f"{ext.__name__}.blobtree_nodes.compile", fromlist=["x"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    tree = bpy.data.node_groups["pear"]
+    doc = comp.tree_document(tree)[0]
+    tree.show_preview = False
+    tree.ink.grid_resolution = 48
+    tree.nodes[0].location.x += 100.0
+    assert comp.same_model(tree, doc)
+    node = next(n for n in tree.nodes if hasattr(n, "radius"))
+    r0 = node.radius
+    node.radius = r0 + 0.1
+    assert not comp.same_model(tree, doc)
+    node.radius = r0
+    assert comp.same_model(tree, doc)
+    for link in list(tree.links):
+        tree.links.remove(link)
+    assert not comp.same_model(tree, doc)                         # a broken tree is a change
