@@ -3,7 +3,8 @@ sidebar's Ink Layers: what a look or a request drew there goes, the other layers
 frames stay (one undo step)."""
 import bpy
 
-from .toggle_layer import LAYER_TIPS
+from .common import InkLayerOperator
+from .toggle_layer import layer_tip
 
 
 def shown_key(layer, frame):
@@ -12,26 +13,19 @@ def shown_key(layer, frame):
     return max(keys, key=lambda f: f.frame_number) if keys else None
 
 
-class BLOBTREE_INK_OT_clear_layer(bpy.types.Operator):
+class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):
     """Remove the strokes of a layer of the ink at this frame"""
     bl_idname = "blobtree_ink.clear_layer"
     bl_label = "Clear Ink Layer"
     bl_options = {"REGISTER", "UNDO"}
 
-    object_name: bpy.props.StringProperty(name="Ink Object", options={"SKIP_SAVE"},
-                                          description="The Grease Pencil object")
-    layer: bpy.props.StringProperty(name="Layer", options={"SKIP_SAVE"}, description="The layer to clear")
-
     @classmethod
     def description(cls, context, properties):
-        what = LAYER_TIPS.get(properties.layer, f"The {properties.layer} layer")
-        return f"Remove this layer's strokes at this frame (its drawing held here). {what}"
+        return f"Remove this layer's strokes at this frame (its drawing held here). {layer_tip(properties.layer)}"
 
     def execute(self, context):
-        obj = bpy.data.objects.get(self.object_name)
-        layer = obj.data.layers.get(self.layer) if obj is not None and obj.type == "GREASEPENCIL" else None
+        layer = self.ink_layer()
         if layer is None:
-            self.report({"ERROR"}, f"no ink layer '{self.layer}' on '{self.object_name}'")
             return {"CANCELLED"}
         key = shown_key(layer, context.scene.frame_current)
         n = len(key.drawing.strokes) if key is not None else 0

@@ -20,6 +20,22 @@ def tree_of_object(obj):
     return None
 
 
+class InkLayerOperator:
+    """Mixin of the operators on one layer of an ink (Grease Pencil) object, which the
+    sidebar's Ink Layers rows call with the object's and the layer's names."""
+    object_name: bpy.props.StringProperty(name="Ink Object", options={"SKIP_SAVE"},
+                                          description="The Grease Pencil object")
+    layer: bpy.props.StringProperty(name="Layer", options={"SKIP_SAVE"}, description="The layer")
+
+    def ink_layer(self):
+        """The layer, or None with an error reported naming what is missing."""
+        obj = bpy.data.objects.get(self.object_name)
+        found = obj.data.layers.get(self.layer) if obj is not None and obj.type == "GREASEPENCIL" else None
+        if found is None:
+            self.report({"ERROR"}, f"no ink layer '{self.layer}' on '{self.object_name}'")
+        return found
+
+
 def ink_name(tree):
     """The name of a tree's ink (Grease Pencil) object."""
     return f"{tree.model_name or tree.name} Ink"

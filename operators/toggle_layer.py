@@ -1,6 +1,8 @@
 """Show or hide one layer of a tree's ink (Grease Pencil) object, from the sidebar."""
 import bpy
 
+from .common import InkLayerOperator
+
 LAYER_TIPS = {
     "Silhouette": "The silhouettes: where the surface turns away from the eye",
     "Crease": "The creases: where unions, intersections and differences meet",
@@ -15,25 +17,24 @@ LAYER_TIPS = {
 }
 
 
-class BLOBTREE_INK_OT_toggle_layer(bpy.types.Operator):
+def layer_tip(layer):
+    """What a layer of the ink holds, for tooltips."""
+    return LAYER_TIPS.get(layer, f"The {layer} layer")
+
+
+class BLOBTREE_INK_OT_toggle_layer(InkLayerOperator, bpy.types.Operator):
     """Show or hide a layer of the ink"""
     bl_idname = "blobtree_ink.toggle_layer"
     bl_label = "Show or Hide Ink Layer"
     bl_options = {"REGISTER", "UNDO"}
 
-    object_name: bpy.props.StringProperty(name="Ink Object", description="The Grease Pencil object")
-    layer: bpy.props.StringProperty(name="Layer", description="The layer to show or hide")
-
     @classmethod
     def description(cls, context, properties):
-        what = LAYER_TIPS.get(properties.layer, f"The {properties.layer} layer")
-        return f"Show or hide this layer. {what}"
+        return f"Show or hide this layer. {layer_tip(properties.layer)}"
 
     def execute(self, context):
-        obj = bpy.data.objects.get(self.object_name)
-        layer = obj.data.layers.get(self.layer) if obj is not None and obj.type == "GREASEPENCIL" else None
+        layer = self.ink_layer()
         if layer is None:
-            self.report({"ERROR"}, f"no ink layer '{self.layer}' on '{self.object_name}'")
             return {"CANCELLED"}
         layer.hide = not layer.hide
         return {"FINISHED"}
