@@ -68,9 +68,10 @@ def test_and_leaves_nothing_behind():
 
 def test_what_a_button_leaves_unset_is_not_the_last_calls(ext):
     """Blender gives a property a button or menu item does not set the value of the last
-    call from the UI, unless it is SKIP_SAVE: a request button after a Look ran the Look
-    again, and a menu item after a sidebar button worked on that button's tree. Every
-    operator's tree, request, look, node and frame range is the call's own."""
+    call from the UI, unless it is SKIP_SAVE: without it, a request button after a Look
+    would run the Look again, and a menu item after a sidebar button would work on that
+    button's tree. Every operator's tree, request, look, node and frame range is the
+    call's own."""
     import sys
     ops = {c for name, m in list(sys.modules.items()) if name.startswith(ext.__name__ + ".")
            for c in getattr(m, "classes", ()) if isinstance(c, type) and issubclass(c, bpy.types.Operator)}

@@ -170,8 +170,8 @@ def test_a_run_from_the_camera_says_so_in_a_viewport_that_looks_from_elsewhere(e
 
 def test_a_running_illustration_stops_only_for_a_change_of_the_model(ext, example):
     """A run stops when the tree's model changes, not for every counted edit of the tree
-    (a run once stopped at once, as 'tree edited', though nothing of the model changed):
-    the tree's document is compared with the one the run started from."""
+    (a Live Preview switched, a node moved, a setting of the run): the tree's document is
+    compared with the one the run started from."""
     comp = __import__(f"{ext.__name__}.blobtree_nodes.compile", fromlist=["x"])
     bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
     tree = bpy.data.node_groups["pear"]
