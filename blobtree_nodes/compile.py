@@ -28,8 +28,13 @@ class TreeError(Exception):
         return where + self.message
 
 
+def output_nodes(tree):
+    """The tree's Model Output nodes that count (not muted)."""
+    return [n for n in tree.nodes if n.bl_idname == "BlobTreeInkOutputNode" and not n.mute]
+
+
 def output_node(tree):
-    outs = [n for n in tree.nodes if n.bl_idname == "BlobTreeInkOutputNode" and not n.mute]
+    outs = output_nodes(tree)
     if not outs:
         raise TreeError(None, f"tree '{tree.name}' has no Model Output node")
     active = [n for n in outs if n.is_active_output] if hasattr(outs[0], "is_active_output") else []
@@ -183,6 +188,11 @@ def compile_tree(tree, mark=True, depsgraph=None):
     """The tree's Model as it is now (its animated values, its followed objects as
     ``depsgraph`` evaluates them: default the context's); raises TreeError naming the
     node (and marks it) when broken."""
+    return compile_document(tree, mark, depsgraph)[0]
+
+
+def compile_document(tree, mark=True, depsgraph=None):
+    """:func:`compile_tree`'s Model and the blobtree-1 document it was made from."""
     if tree.bl_idname != TREE:
         raise TreeError(None, f"'{tree.name}' is not a BlobTree node tree")
     try:
@@ -210,7 +220,7 @@ def compile_tree(tree, mark=True, depsgraph=None):
         raise
     if mark:
         clear_errors(tree)
-    return model
+    return model, doc
 
 
 def same_model(tree, document):

@@ -4,13 +4,8 @@ frames stay (one undo step)."""
 import bpy
 
 from .common import InkLayerOperator
+from .frames import shown_key
 from .toggle_layer import layer_tip
-
-
-def shown_key(layer, frame):
-    """The layer's key shown at ``frame`` (its last at or before it), or None."""
-    keys = [f for f in layer.frames if f.frame_number <= frame]
-    return max(keys, key=lambda f: f.frame_number) if keys else None
 
 
 class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):

@@ -54,6 +54,13 @@ def write_frame(tree, result, frame, rendered=False):
     return obj
 
 
+def shown_key(layer, frame):
+    """The layer's key shown at ``frame`` (its last at or before it: Grease Pencil holds
+    a drawing until the next key), or None before its first."""
+    keys = [f for f in layer.frames if f.frame_number <= frame]
+    return max(keys, key=lambda f: f.frame_number) if keys else None
+
+
 def end_hold(obj, frame):
     """Grease Pencil holds a layer's drawing until the layer's next key: each layer that
     shows strokes at ``frame`` and has no key on the next frame gets an empty drawing
@@ -62,9 +69,9 @@ def end_hold(obj, frame):
     drawing is no drawn frame). Returns the layers that got one."""
     ended = []
     for layer in obj.data.layers:
-        keys = {f.frame_number: f for f in layer.frames}
-        before = [k for k in keys if k <= frame]
-        if before and frame + 1 not in keys and len(keys[max(before)].drawing.strokes):
+        shown = shown_key(layer, frame)
+        if shown is not None and len(shown.drawing.strokes) and \
+                all(f.frame_number != frame + 1 for f in layer.frames):
             layer.frames.new(frame + 1)
             ended.append(layer.name)
     return ended

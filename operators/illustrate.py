@@ -26,7 +26,7 @@ import bpy
 
 from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview
-from ..blobtree_nodes.compile import TreeError, compile_tree, same_model, tree_document
+from ..blobtree_nodes.compile import TreeError, compile_document, same_model
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
 from ..grease_pencil.writer import ink_object, stroke_count, write
 from ..strokes.data import LAYER_OF_KIND
@@ -99,7 +99,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         ink = tree.ink
         if self.preset != NO_PRESET:
             apply_preset(ink, self.preset)
-        model = compile_tree(tree)
+        # the document too: an edit that leaves it as it is does not stop the run
+        model, self.document = compile_document(tree)
         self.placement = jobs.placement(tree)
         inverse = self.placement.inverted_safe()
         self.from_camera = ink.use_camera
@@ -115,7 +116,6 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                        inverse=inverse)
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
-        self.document = tree_document(tree)[0]
         jobs.on_paper(context, tree)
         obj = ink_object(ink_name(tree), preview.tree_collection(tree))
         jobs.attach(obj, tree)

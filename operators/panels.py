@@ -7,10 +7,10 @@ import bpy
 from ..blackboard.board import FEATURE_KINDS
 from ..blobtree_nodes import wrap
 from ..blobtree_nodes.base import SHOW_ERROR, draw_error, shown_name
+from ..blobtree_nodes.compile import output_nodes
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
-from .clear_layer import shown_key
 from .common import active_tree, blobtrees, focus, ink_name
 from .illustrate import REQUESTS, last_run
 from .menus import REQUEST_ICONS
@@ -30,15 +30,11 @@ SHOWN_ERRORS = 3            # nodes whose error the panel spells out; the others
 NO_OUTPUT = "The tree has no Model Output: add one (Shift+A in the node editor, Output) and link the model to it"
 
 
-def has_output(tree):
-    return any(n.bl_idname == "BlobTreeInkOutputNode" and not n.mute for n in tree.nodes)
-
-
 def _draw_errors(layout, context, tree):
     """What keeps the tree from compiling, at the top where the artist looks: no Model
     Output, and the nodes with an error, each a button that makes it the active node
     (and brings it into view in the node editor), its error below it."""
-    broken, output = nodes_with_errors(tree), has_output(tree)
+    broken, output = nodes_with_errors(tree), bool(output_nodes(tree))
     if output and not broken:
         return
     width = wrap.region_text_width(context, context.region.width)
@@ -56,13 +52,11 @@ def _draw_errors(layout, context, tree):
         f"{'they are' if many else 'it is'} mended"
     for i, line in enumerate(wrap.lines(head, width, context)):
         col.label(text=line, icon="ERROR" if i == 0 else "BLANK1")
-    for n in broken[:SHOWN_ERRORS]:
+    for i, n in enumerate(broken):
         op = col.operator(SHOW_ERROR, text=shown_name(n), icon="NODE")
         op.tree_name, op.node_name, op.frame = tree.name, n.name, True
-        draw_error(col, context, n, width)
-    for n in broken[SHOWN_ERRORS:]:
-        op = col.operator(SHOW_ERROR, text=shown_name(n), icon="NODE")
-        op.tree_name, op.node_name, op.frame = tree.name, n.name, True
+        if i < SHOWN_ERRORS:
+            draw_error(col, context, n, width)
 
 
 def _draw_tree(layout, tree):
@@ -163,7 +157,7 @@ def _draw_layers(layout, tree):
 
 def _strokes_at(layer, frame):
     """The strokes of a layer's drawing shown at a frame (0 before its first key)."""
-    key = shown_key(layer, frame)
+    key = FR.shown_key(layer, frame)
     return len(key.drawing.strokes) if key is not None else 0
 
 

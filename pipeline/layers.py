@@ -176,4 +176,3 @@ def single_stroke(cv, st, point, seed=0):
         return None
     r = cv.radius(st)
     return Stroke(p, np.full(len(p), r), np.ones(len(p)))
-
