@@ -307,7 +307,8 @@ class Illustration:
         self._stroke_layer(STYLE_LAYERS["short"], LY.mark_parts, LY.short, "short")
 
     def _stipples(self):
-        self._stroke_layer(STYLE_LAYERS["stipples"], LY.mark_parts, LY.stipples, "stipples")
+        layer = STYLE_LAYERS["stipples"]
+        self._stroke_layer(layer, LY.mark_parts, LY.stipples, "stipples", drawn=self.layers.get(layer, ()))
 
     def _single(self):
         cursor = [r.cursor for r in self.requests if r.kind == SINGLE_STROKE][0]

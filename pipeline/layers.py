@@ -29,7 +29,7 @@ CHUNK_OUTLINES = 40         # outlines per part of the chain strokes
 # layer its own set (a salt), at a spacing in stroke units.
 MARKS = {"hatching": (0, 0.78),
          "short": (1, 0.78),
-         "stipples": (2, 1.1)}        # a wandering smarticle draws several dots
+         "stipples": (2, 0.8)}        # a wandering smarticle draws several dots
 
 
 @dataclass(frozen=True)
@@ -148,13 +148,14 @@ def short(cv, sampling, st, region, part):
                            every_path=cv.settled, **kw)
 
 
-def stipples(cv, sampling, st, region, part):
-    """Stipples from a part's wandering smarticles."""
+def stipples(cv, sampling, st, region, part, drawn=()):
+    """Stipples from a part's wandering smarticles, apart from each other and from the
+    layer's dots ``drawn`` by the parts before."""
     step = 0.5 * STEP * cv.unit
     return L.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
-                      every_path=cv.settled)
+                      every_path=cv.settled, drawn=drawn)
 
 
 def single_stroke(cv, st, point, seed=0):

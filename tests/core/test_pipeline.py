@@ -171,3 +171,21 @@ def test_principal_strokes_do_not_kink_where_the_principal_directions_change_pla
             d /= np.linalg.norm(d, axis=1)[:, None]
             turns.append(np.degrees(np.arccos(np.clip((d[1:] * d[:-1]).sum(1), -1, 1))).max(initial=0.0))
     assert len(turns) > 40 and max(turns) < 60.0, sorted(turns)[-5:]
+
+
+def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monkeypatch):
+    """The stipple layer is drawn in parts of its marks; a part's dots keep apart from
+    the dots the parts before it drew, not only from each other."""
+    from blobtree_ink.pipeline import layers as LY
+    from blobtree_ink.strokes import layers as L
+    monkeypatch.setattr(LY, "CHUNK", 150)
+    ill = PL.Illustration(job_for(load_example, "pear", "stippled", requests=[PL.Request("PLACE_STROKES")]))
+    parts = 0
+    while ill.step():
+        parts += ill.stage == "stipples"
+    dots = ill.result().strokes.layers["Stipples"]
+    assert parts > 3 and len(dots) > 500
+    P = np.concatenate([s.points for s in dots])
+    R = np.array([s.radius[0] for s in dots])
+    d = np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) * 1e9
+    assert (d >= L.STIPPLE_GAP * (R[:, None] + R[None])).all()

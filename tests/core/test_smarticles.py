@@ -8,6 +8,7 @@ from blobtree_ink import model as M
 from blobtree_ink.model import keyed
 from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.strokes import layers, smarticles as sm
+from blobtree_ink.strokes.data import Stroke
 
 K = math.sqrt(1 - 0.5 ** (1 / 3))
 
@@ -123,6 +124,44 @@ def test_hatching_only_in_shade_and_stipples_are_dots():
     assert len({s.mark for s in dots}) == len(dots)            # every dot its own mark
     P = np.concatenate([s.points for s in dots])
     assert np.abs(ev.field(P) - 0.5).max() < 1e-9
+
+
+def test_stipples_keep_apart_and_each_dot_keeps_its_own_shade_choice():
+    """Drawn stipples never touch (no worm-like chains of overlapping dots), and in the
+    penumbra each dot is drawn by its own key's draw against its own shade, so a light
+    tone is scattered dots, not whole trails of single smarticles."""
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    marks = surface_marks(ev, 0.03)
+    eye = np.array([0.0, -6.0, 0.0])
+    light = np.array([0.0, -1.0, 1.0]) / np.sqrt(2.0)
+    lower, upper = 0.2, 0.55
+    dots = layers.stipples(ev, marks, eye, light, 0.02, lower=lower, upper=upper, radius=0.01)
+    P = np.concatenate([s.points for s in dots])
+    R = np.array([s.radius[0] for s in dots])
+    d = np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) * 1e9
+    assert (d >= layers.STIPPLE_GAP * (R[:, None] + R[None])).all()
+    shade = layers.lighting(P / np.linalg.norm(P, axis=1)[:, None], light)
+    u = keyed.uniform(np.array([s.mark for s in dots], np.uint64), layers.SHADE)
+    p = np.clip((upper - shade) / (upper - lower), 0, 1)
+    assert (u < p).all()
+    penumbra = (p > 0) & (p < 1)
+    assert penumbra.sum() > 50 and (u[penumbra] / p[penumbra]).max() > 0.5
+
+
+def test_spaced_leaves_out_the_lower_key_of_two_close_dots_and_only_near_ones():
+    P = np.array([[0.0, 0, 0], [0.015, 0, 0], [1.0, 0, 0], [2.0, 0, 0]])
+    radii = np.full(4, 0.01)
+    k = np.arange(4, dtype=np.uint64)
+    keep = layers.spaced(P, radii, k)
+    rank = keyed.uniform(k, layers.SPACING)
+    assert keep[2] and keep[3] and keep[:2].sum() == 1 and keep[int(np.argmax(rank[:2]))]
+    # a dot's fate depends on the dots near it alone: one more far away changes nothing
+    more = layers.spaced(np.vstack([P, [[5.0, 0, 0]]]), np.full(5, 0.01), np.arange(5, dtype=np.uint64))
+    assert (more[:4] == keep).all()
+    # a dot near one drawn before is left out, whatever its key
+    drawn = [Stroke(np.array([[2.02, 0, 0]]), np.array([0.01]), np.array([1.0]), dots=True)]
+    assert layers.spaced(P, radii, k, drawn).tolist() == keep.tolist()[:3] + [False]
+    assert layers.spaced(np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.uint64)).shape == (0,)
 
 
 def sphere_ev():
