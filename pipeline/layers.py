@@ -18,6 +18,7 @@ from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
+from ..strokes import stipples as SP
 from ..strokes.data import Stroke
 from ..strokes.style import outline_strokes, view_right
 
@@ -152,7 +153,7 @@ def stipples(cv, sampling, st, region, part, drawn=()):
     """Stipples from a part's wandering smarticles, apart from each other and from the
     layer's dots ``drawn`` by the parts before."""
     step = 0.5 * STEP * cv.unit
-    return L.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
+    return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
                       every_path=cv.settled, drawn=drawn)

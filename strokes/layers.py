@@ -1,6 +1,6 @@
 """Stroke layers on top of the outlines (MASSRIS section 7, Smarticles section 7):
 hatching and cross-hatching along a flow field, strokes started from feature chains,
-short general strokes, and stipples from the wander behaviour's path points.
+short general strokes (stipples, from the wander behaviour's path points: strokes.stipples).
 
 Hatching, short strokes and stipples start at marks (model.marks): points that belong
 to the model's primitives, so a frame's strokes follow the parts they are on. Whatever
@@ -17,12 +17,11 @@ import numpy as np
 
 from . import smarticles as sm
 from ..agents import steering as st
-from ..blackboard.board import pairs_within
 from ..model import keyed
 from ..model.curvature import curvature
 from ..model.vectors import cross
 from .data import Stroke
-from .visibility import visible, visible_runs
+from .visibility import visible_runs
 
 FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
 TURN = np.radians(45.0)      # a principal direction this far from a smarticle's heading is noise
@@ -32,8 +31,6 @@ SHADE = 1               # whether a mark in the penumbra gets a stroke
 FLOCK = 2               # whether a mark spawns a flock
 FLOCK_PLACE = 3         # where a flock's member starts
 BACKWARDS = 4           # the smarticle of a short stroke's other half
-SPACING = 5             # which of two stipples too close together is left out
-STIPPLE_GAP = 1.25      # two stipples closer than this many times their radii's sum: one is left out
 
 
 def lighting(normals, light_dir):
@@ -272,75 +269,6 @@ def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), ste
         whole.paths.append(np.vstack([pb[:0:-1], pf]))
         whole.normals.append(np.vstack([nb[:0:-1], nf]))
     return shaded_strokes(ev, whole, eye, light, upper, radius, region, contrast, min_points=3, keys=m.keys)
-
-
-def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
-             region=None, contrast=1.0, paths=None, every_path=False, drawn=()):
-    """One-point strokes at every ``every``-th step of wandering smarticles started at
-    the marks in shade: each dot is drawn as its own shade says (in the penumbra at
-    random, by its own key: a light tone is no trail of one smarticle's dots) and kept
-    apart from the others (:func:`spaced`, also from the dots ``drawn`` before); each
-    dot's mark is its smarticle's key and step (``paths``, ``every_path``: as for
-    :func:`hatching`)."""
-    every = int(every)
-    if every < 1:
-        raise ValueError(f"the stipple step must be at least 1, got {every}")
-    rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False,
-                           region=region)
-
-    def run(m):
-        res = sm.kept(paths, m.keys)
-        if res is None:
-            res = sm.run_kept(paths, ev, m.points, direction_field("dir1"), step, sm.PRESETS["stipple"], rules,
-                              m.keys, headings=headings(ev, m.points, "dir1", m.ref))
-        return res
-    if every_path and paths is not None:
-        run(marks)
-    lit = lighting(marks.normals, light_dir)
-    m = marks.take(lit < upper)
-    res = run(m)
-    if not res.paths:
-        return []
-    D = np.concatenate([p[::every] for p in res.paths])
-    Nn = np.concatenate([n[::every] for n in res.normals])
-    K = np.concatenate([keyed.combine(np.full(len(range(0, len(p), every)), k, np.uint64),
-                                      np.arange(0, len(p), every)) for p, k in zip(res.paths, m.keys)])
-    shade = lighting(Nn, light_dir)
-    keep = chosen_for_shade(shade, lower, upper, keyed.uniform(K, SHADE))
-    if region is not None:
-        keep &= region.contains(D)
-    D, Nn, shade, K = D[keep], Nn[keep], shade[keep], K[keep]
-    r, o = tone(shade, upper, radius, contrast)
-    apart = spaced(D, r, K, drawn)
-    D, Nn, K, r, o = D[apart], Nn[apart], K[apart], r[apart], o[apart]
-    vis = visible(ev, D, eye, Nn)
-    r, o = r[vis], o[vis]
-    return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True, mark=int(k))
-            for i, (p, k) in enumerate(zip(D[vis], K[vis]))]
-
-
-def spaced(P, radii, keys, drawn=()):
-    """Which of the dots at ``P`` (with their ``radii`` and marks' ``keys``) keep apart:
-    of two closer than STIPPLE_GAP times their radii's sum, the one whose key draws the
-    lower number (model.keyed) is left out, whether or not the other is left out for a
-    third (a Matern hard-core thinning: a dot's fate depends on the dots near it alone,
-    so it keeps from frame to frame while they do); a dot too close to one of ``drawn``
-    (the dots drawn before, Strokes) is left out too."""
-    keep = np.ones(len(P), bool)
-    if len(P) == 0:
-        return keep
-    radii = np.asarray(radii, float)
-    reach = STIPPLE_GAP * 2.0 * radii.max()
-    i, j = pairs_within(P, P, reach)
-    rank = keyed.uniform(keys, SPACING)
-    close = (i != j) & (((P[i] - P[j]) ** 2).sum(1) < (STIPPLE_GAP * (radii[i] + radii[j])) ** 2)
-    keep[i[close & ((rank[j] > rank[i]) | ((rank[j] == rank[i]) & (j < i)))]] = False
-    if len(drawn):
-        Q = np.array([s.points[0] for s in drawn])
-        rq = np.array([s.radius[0] for s in drawn])
-        i, j = pairs_within(P, Q, STIPPLE_GAP * (radii.max() + rq.max()))
-        keep[i[((P[i] - Q[j]) ** 2).sum(1) < (STIPPLE_GAP * (radii[i] + rq[j])) ** 2]] = False
-    return keep
 
 
 def isotropic(c):

@@ -174,10 +174,11 @@ def test_principal_strokes_do_not_kink_where_the_principal_directions_change_pla
 
 
 def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monkeypatch):
-    """The stipple layer is drawn in parts of its marks; a part's dots keep apart from
-    the dots the parts before it drew, not only from each other."""
+    """The stipple layer is drawn in parts of its marks; a part's dots keep apart (on
+    the surface and on the paper) from the dots the parts before it drew, not only from
+    each other."""
     from blobtree_ink.pipeline import layers as LY
-    from blobtree_ink.strokes import layers as L
+    from blobtree_ink.strokes import stipples as L
     monkeypatch.setattr(LY, "CHUNK", 150)
     ill = PL.Illustration(job_for(load_example, "pear", "stippled", requests=[PL.Request("PLACE_STROKES")]))
     parts = 0
@@ -186,6 +187,9 @@ def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monke
     dots = ill.result().strokes.layers["Stipples"]
     assert parts > 3 and len(dots) > 500
     P = np.concatenate([s.points for s in dots])
-    R = np.array([s.radius[0] for s in dots])
-    d = np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) * 1e9
-    assert (d >= L.STIPPLE_GAP * (R[:, None] + R[None])).all()
+    U, a = L.on_paper(P, [s.radius[0] for s in dots], ill.eye)
+    d = np.linalg.norm(U[:, None] - U[None], axis=2) + np.eye(len(U)) * 1e9
+    assert (d >= L.STIPPLE_GAP * (a[:, None] + a[None]) * (1 - 1e-9)).all()
+    # and apart on the surface, at the radii the shade gives them (at least the smallest's)
+    full = 1.2 * ill.canvas.radius(ill.style) * 0.5
+    assert (np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) >= L.STIPPLE_GAP * 2 * full).all()

@@ -8,6 +8,7 @@ from blobtree_ink import model as M
 from blobtree_ink.model import keyed
 from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.strokes import layers, smarticles as sm
+from blobtree_ink.strokes import stipples as SP
 from blobtree_ink.strokes.data import Stroke
 
 K = math.sqrt(1 - 0.5 ** (1 / 3))
@@ -119,27 +120,33 @@ def test_hatching_only_in_shade_and_stipples_are_dots():
         assert (s.points[:, 1] < 0.05).all()          # only the side facing the eye is drawn
         assert not s.dots
         assert s.mark in set(int(k) for k in marks.keys)
-    dots = layers.stipples(ev, marks, eye, light, 0.02)
+    dots = SP.stipples(ev, marks, eye, light, 0.02)
     assert dots and all(s.dots and len(s.points) == 1 for s in dots)
     assert len({s.mark for s in dots}) == len(dots)            # every dot its own mark
     P = np.concatenate([s.points for s in dots])
     assert np.abs(ev.field(P) - 0.5).max() < 1e-9
 
 
-def test_stipples_keep_apart_and_each_dot_keeps_its_own_shade_choice():
-    """Drawn stipples never touch (no worm-like chains of overlapping dots), and in the
-    penumbra each dot is drawn by its own key's draw against its own shade, so a light
-    tone is scattered dots, not whole trails of single smarticles."""
+def test_stipples_never_touch_on_the_paper_and_each_dot_keeps_its_own_shade_choice():
+    """Drawn stipples keep apart on the surface and never touch as the eye sees them
+    (near the silhouette they are drawn finer: no dashes or blots of overlapping dots),
+    and in the penumbra each dot is drawn by its own key's draw against its own shade,
+    so a light tone is scattered dots, not whole trails of single smarticles."""
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     marks = surface_marks(ev, 0.03)
     eye = np.array([0.0, -6.0, 0.0])
     light = np.array([0.0, -1.0, 1.0]) / np.sqrt(2.0)
     lower, upper = 0.2, 0.55
-    dots = layers.stipples(ev, marks, eye, light, 0.02, lower=lower, upper=upper, radius=0.01)
+    dots = SP.stipples(ev, marks, eye, light, 0.02, lower=lower, upper=upper, radius=0.01)
     P = np.concatenate([s.points for s in dots])
     R = np.array([s.radius[0] for s in dots])
-    d = np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) * 1e9
-    assert (d >= layers.STIPPLE_GAP * (R[:, None] + R[None])).all()
+    U, a = SP.on_paper(P, R, eye)
+    d = np.linalg.norm(U[:, None] - U[None], axis=2) + np.eye(len(P)) * 1e9
+    assert (d >= SP.STIPPLE_GAP * (a[:, None] + a[None]) * (1 - 1e-9)).all()
+    assert (np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) >= SP.STIPPLE_GAP * 2 * R.min()).all()
+    # finer towards the silhouette (the sphere's rim as seen from the eye), full size facing it
+    facing = -P[:, 1] / np.linalg.norm(P, axis=1)
+    assert np.median(R[facing < 0.3]) < 0.8 * np.median(R[facing > 0.8])
     shade = layers.lighting(P / np.linalg.norm(P, axis=1)[:, None], light)
     u = keyed.uniform(np.array([s.mark for s in dots], np.uint64), layers.SHADE)
     p = np.clip((upper - shade) / (upper - lower), 0, 1)
@@ -148,20 +155,48 @@ def test_stipples_keep_apart_and_each_dot_keeps_its_own_shade_choice():
     assert penumbra.sum() > 50 and (u[penumbra] / p[penumbra]).max() > 0.5
 
 
-def test_spaced_leaves_out_the_lower_key_of_two_close_dots_and_only_near_ones():
-    P = np.array([[0.0, 0, 0], [0.015, 0, 0], [1.0, 0, 0], [2.0, 0, 0]])
-    radii = np.full(4, 0.01)
-    k = np.arange(4, dtype=np.uint64)
-    keep = layers.spaced(P, radii, k)
-    rank = keyed.uniform(k, layers.SPACING)
-    assert keep[2] and keep[3] and keep[:2].sum() == 1 and keep[int(np.argmax(rank[:2]))]
-    # a dot's fate depends on the dots near it alone: one more far away changes nothing
-    more = layers.spaced(np.vstack([P, [[5.0, 0, 0]]]), np.full(5, 0.01), np.arange(5, dtype=np.uint64))
-    assert (more[:4] == keep).all()
-    # a dot near one drawn before is left out, whatever its key
-    drawn = [Stroke(np.array([[2.02, 0, 0]]), np.array([0.01]), np.array([1.0]), dots=True)]
-    assert layers.spaced(P, radii, k, drawn).tolist() == keep.tolist()[:3] + [False]
-    assert layers.spaced(np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.uint64)).shape == (0,)
+def test_spaced_keeps_the_dots_taking_them_one_by_one_in_their_keys_order():
+    """The rounds over all the dots keep what taking them one at a time, highest key
+    first, keeps; a far dot changes nothing; a dot near one drawn before is left out."""
+    rng = np.random.default_rng(3)
+    P = rng.random((400, 3))
+    radii = rng.uniform(0.02, 0.06, 400)
+    k = np.arange(400, dtype=np.uint64)
+    keep = SP.spaced(P, radii, k)
+    rank = keyed.uniform(k, SP.SPACING)
+    kept = []
+    for n in np.argsort(-rank):
+        if all(np.linalg.norm(P[n] - P[m]) >= SP.STIPPLE_GAP * (radii[n] + radii[m]) for m in kept):
+            kept.append(n)
+    assert sorted(kept) == np.flatnonzero(keep).tolist() and 30 < len(kept) < 390
+    far = SP.spaced(np.vstack([P, [[50.0, 0, 0]]]), np.append(radii, 0.05), np.arange(401, dtype=np.uint64))
+    assert (far[:400] == keep).all() and far[400]
+    first = int(np.flatnonzero(keep)[0])
+    drawn = [Stroke(P[first:first + 1] + [1e-3, 0, 0], np.array([radii[first]]), np.array([1.0]), dots=True)]
+    assert not SP.spaced(P, radii, k, drawn)[first]
+    assert SP.spaced(np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.uint64)).shape == (0,)
+
+
+def test_fitted_dots_shrink_smoothly_where_they_crowd_on_the_paper():
+    """Two dots apart in space but nearly in line with the eye are drawn smaller, just
+    not touching on the paper; a lone dot keeps its size; a small turn of the view
+    changes the sizes a little, it does not make dots come or go."""
+    eye = np.array([0.0, -10.0, 0.0])
+    P = np.array([[0.0, 0.0, 0.0], [0.03, 1.0, 0.0], [3.0, 0.0, 0.0]])
+    r = np.full(3, 0.05)
+    f = SP.fitted(P, r, eye)
+    U, a = SP.on_paper(P, f, eye)
+    gap = np.linalg.norm(U[0] - U[1])
+    assert f[2] == r[2] and f[0] < r[0] and f[1] < r[1]
+    assert np.isclose(a[0] + a[1], gap / SP.STIPPLE_GAP)
+    turned = SP.fitted(P, r, eye + [0.05, 0.0, 0.0])
+    assert np.all(np.abs(turned - f) < 0.2 * f) and np.any(turned != f)
+    # against a dot drawn before (which keeps its size), the new dot alone gives way
+    drawn = [Stroke(np.array([[0.1, 1.0, 0.0]]), r[1:2], np.ones(1), dots=True)]
+    g = SP.fitted(P[:1], r[:1], eye, drawn)
+    Ud, ad = SP.on_paper(drawn[0].points, r[1:2], eye)
+    assert 0 < g[0] < r[0]
+    assert np.isclose(SP.on_paper(P[:1], g, eye)[1][0] + ad[0], np.linalg.norm(U[0] - Ud[0]) / SP.STIPPLE_GAP)
 
 
 def sphere_ev():
