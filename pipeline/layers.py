@@ -154,7 +154,7 @@ def stipples(cv, sampling, st, region, part, drawn=()):
     layer's dots ``drawn`` by the parts before."""
     step = 0.5 * STEP * cv.unit
     return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
-                      lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.2 * cv.radius(st),
+                      lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.8 * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
                       every_path=cv.settled, drawn=drawn)
 

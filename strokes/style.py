@@ -47,7 +47,7 @@ class Style:
     chain_angle: float = 90.0            # degrees between the chain and its strokes
     chain_field: str = "straight"
     chain_distance: float = 3.0          # from the feature line, in stroke units (about a default grid cell)
-    stipple_every: int = 2
+    stipple_every: int = 3
     line_width: float = 1.0              # times the base line radius
     contrast: float = 1.0                # 0: uniform strokes; 1: radius and opacity follow the shade
 
