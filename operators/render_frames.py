@@ -18,6 +18,7 @@ from . import frames as FR
 from .common import blobtrees, ink_name
 
 _rendering = []                # a render is under way (between its init and its end)
+_drew = []                     # (tree, frame) drawn by the render under way
 _previous = {}                 # tree name -> what its last rendered frame left the next (during a render)
 drawn = []                     # (tree, frame) drawn by renders in this session (for tests and the console)
 
@@ -41,6 +42,7 @@ def illustrate(scene, depsgraph=None):
             continue
         FR.write_frame(tree, result, frame, rendered=True)
         drawn.append((tree.name, frame))
+        _drew.append((tree.name, frame))
         done.append(tree.name)
     return done
 
@@ -49,12 +51,25 @@ def illustrate(scene, depsgraph=None):
 def _render_init(*_args):
     _rendering[:] = [True]
     _previous.clear()
+    _drew.clear()
 
 
 @bpy.app.handlers.persistent
 def _render_end(*_args):
+    if _drew and not bpy.app.background:
+        bpy.app.timers.register(_undo_step, first_interval=0.0)
     _rendering.clear()
     _previous.clear()
+    _drew.clear()
+
+
+def _undo_step():
+    """An undo step for the frames a render in the UI drew (a render is no operator: without
+    it, the next Ctrl+Z would go back past them, to before the render)."""
+    wm = bpy.context.window_manager
+    if wm is not None and wm.windows:
+        with bpy.context.temp_override(window=wm.windows[0]):
+            bpy.ops.ed.undo_push(message="BlobTree Ink: frames drawn by the render")
 
 
 @bpy.app.handlers.persistent

@@ -320,8 +320,9 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     bakes the scene's range; Esc while frame 3 is under way keeps frames 1 and 2; the
     whole range baked (Adjust Last Operation showing that range), the Right arrow steps
     the timeline and the viewport shows each frame's own drawing; Ctrl+Z undoes a bake as one step (and Ctrl+Shift+Z redoes it);
-    Clear Frames clears them; with the driving Empty deleted in the viewport the bake fails
-    on its first frame and draws nothing."""
+    Clear Frames clears them; a frame a render drew comes back when a Clear Frames after
+    it is undone; with the driving Empty deleted in the viewport the bake fails
+    on its first frame, draws nothing and keeps what was drawn."""
     out, facts = run_ui_script("bake.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
     assert facts["held_frames"] == [1, 2] and facts["held_state"] == "running"
@@ -335,7 +336,10 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     assert facts["frames_seen"] == [1, 2, 3, 4, 5, 6]
     assert facts["frames_after_undo"] == [1, 2] and facts["frames_after_redo"] == [1, 2, 3, 4, 5, 6]
     assert facts["frames_after_clear"] == []
-    assert facts["deleted_state"] == "failed" and facts["deleted_frames"] == []
+    # a frame a render drew is an undo step of its own: undoing a later Clear Frames brings it back
+    assert facts["frames_rendered"] == [2] and facts["frames_cleared_after_render"] == []
+    assert facts["frames_after_undoing_the_clear"] == [2]
+    assert facts["deleted_state"] == "failed" and facts["deleted_frames"] == [2]     # drew nothing, lost nothing
     shots = {}
     for name in ("bake_held.png", "bake_stopped.png", "bake_frame_1.png", "bake_frame_6.png"):
         shutil.copy(os.path.join(out, name), artifact(name))

@@ -30,7 +30,7 @@ import bpy
 from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from uikit import (drawing_of, in_viewport, menu_search, redrawn, screen_xy, until,  # noqa: E402
+from uikit import (F12, drawing_of, in_viewport, menu_search, redrawn, screen_xy, until,  # noqa: E402
                    watch_redraws)
 from uistep import EXT, OUT, REPO, Steps, record, started  # noqa: E402
 
@@ -153,6 +153,30 @@ def run():
     yield from menu_search(win, vregion, "clear frames")
     yield from until(lambda: not drawn(tree), 10, "Clear Frames")
     record(frames_after_clear=drawn(tree))
+
+    # --- 6b. a render draws a frame; Clear Frames, then Ctrl+Z brings that frame back -----------
+    render = sys.modules[EXT + ".operators.render_frames"]
+    sc.frame_set(2)
+    sc.render.resolution_percentage = 25                 # [Python] a small render, as for a test shot
+    n = len(render.drawn)
+    yield {"action": "mouse", "x": x, "y": y}
+    yield {"action": "key", "keys": [F12], "pause": 1.0}
+    yield from until(lambda: len(render.drawn) > n and not bpy.app.is_job_running("RENDER"), 120, "the F12 render")
+    yield 2.0
+    rendered = drawn(tree)
+    rw = bpy.context.window_manager.windows[-1]
+    yield {"action": "mouse", "x": rw.x + rw.width // 2, "y": win.height - rw.y - rw.height // 2}
+    yield {"action": "key", "keys": ["Escape"], "pause": 1.0}    # the render window closes
+    yield from until(lambda: len(bpy.context.window_manager.windows) == 1, 10, "Escape to close the render")
+    yield from menu_search(win, vregion, "clear frames")
+    yield from until(lambda: not drawn(bpy.data.node_groups["two_spheres"]), 10, "Clear Frames after the render")
+    cleared = drawn(bpy.data.node_groups["two_spheres"])
+    yield {"action": "mouse", "x": x, "y": y}
+    yield {"action": "key", "keys": ["ctrl+z"], "pause": 1.0}
+    yield from until(lambda: drawn(bpy.data.node_groups["two_spheres"]), 10, "Ctrl+Z after Clear Frames")
+    tree = bpy.data.node_groups["two_spheres"]
+    sc = bpy.context.scene
+    record(frames_rendered=rendered, frames_cleared_after_render=cleared, frames_after_undoing_the_clear=drawn(tree))
 
     # --- 7. the driving Empty deleted in the viewport (clicked, X, Return), then a bake ------------
     driver = bpy.data.objects["Driver"]
