@@ -113,14 +113,14 @@ def _draw_style(layout, s):
     row.prop(s, "chains", toggle=True)
     row.prop(s, "short", toggle=True)
     col = layout.column(align=True)
-    col.prop(s, "hatch_field")
+    _choice(col, s, "hatch_field")
     if {"AXIS", "LEVEL"} & {s.hatch_field, s.cross_field}:
         col.prop(s, "hatch_axis")
     col.prop(s, "cross_hatching")
     if s.cross_hatching:
-        col.prop(s, "cross_field")
-    col.prop(s, "surface")
-    col.prop(s, "weights")
+        _choice(col, s, "cross_field")
+    _choice(col, s, "surface")
+    _choice(col, s, "weights")
     if s.weights == "CUSTOM":
         for name in ("w_flow", "w_wander", "w_separation", "w_alignment", "w_cohesion", "w_containment"):
             col.prop(s, name)
@@ -133,6 +133,14 @@ def _draw_style(layout, s):
     col.prop(s, "stipple_every")
     col.prop(s, "line_width")
     col.prop(s, "contrast")
+
+
+def _choice(col, s, name):
+    """A menu with its whole name beside it (the default label is cut short in a
+    sidebar of the default width)."""
+    row = col.split(factor=0.42, align=True)
+    row.label(text=s.bl_rna.properties[name].name)
+    row.prop(s, name, text="")
 
 
 def _draw_layers(layout, tree):
