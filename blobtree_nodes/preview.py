@@ -158,7 +158,15 @@ def _after_undo(*_args):
 
 @bpy.app.handlers.persistent
 def _after_load(*_args):
+    """A file's previews as it saved them; one saved while its preview was still being
+    built (the mesh comes a moment after an import or an edit in the UI) has an empty
+    mesh, and is built again."""
     changes.forget()
+    for tree in bpy.data.node_groups:
+        if tree.bl_idname == "BlobTreeInkNodeTree" and tree.show_preview:
+            obj = tree.preview_object
+            if obj is not None and obj.data is not None and len(obj.data.vertices) == 0:
+                changes.schedule(tree, edit=False)
 
 
 HANDLERS = ((bpy.app.handlers.undo_post, _after_undo), (bpy.app.handlers.redo_post, _after_undo),

@@ -319,6 +319,26 @@ def test_save_and_reload_keeps_the_tree(ext, example, tmp_path):
     assert tree.preview_object is not None and len(tree.preview_object.data.polygons) > 100
 
 
+def test_a_file_saved_before_its_preview_was_built_builds_it_when_opened(ext, tmp_path):
+    """In the UI the preview's mesh comes a moment after an import: a file saved in
+    between holds an empty preview, and opening it builds the preview (and only that
+    tree's)."""
+    changes = mod(ext, "blobtree_nodes.changes")
+    t, _ = pear_by_hand()
+    other = new_tree("Other")
+    changes.run_due(float("inf"))
+    t.preview_object.data.clear_geometry()                # saved before the mesh came
+    name = t.name
+    path = str(tmp_path / "early.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    tree = bpy.data.node_groups[name]
+    assert len(tree.preview_object.data.vertices) == 0 and list(changes.pending()) == [name]
+    changes.run_due(float("inf"))
+    assert len(tree.preview_object.data.polygons) > 100
+    assert "Other" in bpy.data.node_groups and not changes.pending()
+
+
 def test_undo_and_redo_schedule_previews(ext):
     preview = mod(ext, "blobtree_nodes.preview")
     changes = mod(ext, "blobtree_nodes.changes")
