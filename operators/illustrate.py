@@ -104,8 +104,11 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.placement = jobs.placement(tree)
         inverse = self.placement.inverted_safe()
         self.from_camera = ink.use_camera
+        self.notes = []
         if ink.use_camera:
             eye = jobs.camera_eye(context.scene)
+            off = jobs.off_camera(context.scene, tree)
+            self.notes += [off] if off else []
         else:
             eye = jobs.viewport_eye(context, PL.bounds(Evaluator(model))[1])
             if eye is None:
@@ -152,7 +155,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             region_overlay.show(self.tree_key, [])
         self._figures(result.progress)
         self._write(result)
-        self._report_done("done", result.warnings)
+        self._report_done("done", result.warnings + self.notes)
         return {"FINISHED"}
 
     def invoke(self, context, event):
@@ -254,7 +257,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                 last_run["fraction"] = min(last_run["fraction"], self.stopped_at)
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
-        self._report_done(state, warnings + self.runner.notes, camera_hint(context, self.from_camera))
+        self._report_done(state, warnings + self.runner.notes + self.notes, camera_hint(context, self.from_camera))
         return {"FINISHED"}                # keep what was made, as one undo step
 
     def cancel(self, context):
@@ -276,12 +279,14 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             last_run["state"] = "cancelled"
 
     def _report_done(self, state, warnings=(), hint=""):
+        """The run's summary, then its warnings: the status bar shows the last report, so
+        a warning is not hidden behind the summary."""
         last_run["state"] = state
-        for w in warnings:
-            self.report({"WARNING"}, w)
         traced = f", the outlines after {last_run['iterations']} iterations" if last_run["iterations"] else ""
         n = last_run.get("strokes", 0)
         self.report({"INFO"}, f"Illustration {state}: {n} stroke{'' if n == 1 else 's'}{traced}{hint}")
+        for w in warnings:
+            self.report({"WARNING"}, w)
 
 
 def camera_hint(context, from_camera):

@@ -71,3 +71,37 @@ def test_a_followed_object_keeps_its_place_in_the_scene_when_the_model_moves(exa
     con.use_max_x, con.max_x = True, 1.2
     bpy.context.view_layer.update()
     assert comp.compile_tree(tree).root.center[0] == pytest.approx(-8.8, abs=1e-6)
+
+
+def test_a_model_outside_the_camera_says_so_when_drawn_from_camera(ext, example):
+    """From Camera draws the model as the camera sees it: a model the camera sees only
+    in part, or not at all (an import placed beside the first model), gets a warning
+    saying what to do; one in the frame does not."""
+    from importlib import import_module
+    jobs = import_module(f"{ext.__name__}.operators.jobs")
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    tree = bpy.data.node_groups["sphere"]
+    sc = bpy.context.scene
+    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
+    sc.collection.objects.link(cam)
+    sc.camera = cam
+    cam.location = (0.0, -6.0, 0.0)
+    cam.rotation_euler = (Vector((0.0, 0.0, 0.0)) - cam.location).to_track_quat("-Z", "Y").to_euler()
+    bpy.context.view_layer.update()
+    assert jobs.off_camera(sc, tree) is None                      # in the middle of the frame
+    tree.preview_object.location = (4.0, 0.0, 0.0)                # beside it: out of the frame
+    bpy.context.view_layer.update()
+    note = jobs.off_camera(sc, tree)
+    assert note == "'sphere' is outside the scene camera's view: move the camera (Numpad 0 looks through it) or " \
+                   "untick From Camera"
+    tree.preview_object.location = (2.0, 0.0, 0.0)                # cut by the frame's edge
+    bpy.context.view_layer.update()
+    assert "'sphere' is partly outside the scene camera's view" in jobs.off_camera(sc, tree)
+    tree.preview_object.location = (0.0, 12.0, 0.0)               # in line, but far: still seen
+    bpy.context.view_layer.update()
+    assert jobs.off_camera(sc, tree) is None
+    tree.preview_object.location = (0.0, -12.0, 0.0)             # behind the camera
+    bpy.context.view_layer.update()
+    assert jobs.off_camera(sc, tree) is not None
+    sc.camera = None
+    assert jobs.off_camera(sc, tree) is None
