@@ -6,6 +6,7 @@ mesh."""
 import bpy
 import numpy as np
 import pytest
+from aimed_camera import aimed_camera
 from bpy_extras.object_utils import world_to_camera_view
 from mathutils import Vector
 
@@ -25,13 +26,7 @@ def set_up(example, name="pear"):
     bpy.ops.blobtree_ink.import_json(filepath=example(name), preview=True)
     tree = bpy.data.node_groups[name]
     tree.ink.grid_resolution = 12
-    sc = bpy.context.scene
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    cam.location = (2.2, -3.2, 1.4)
-    cam.rotation_euler = (Vector((0.0, 0.0, 0.1)) - cam.location).to_track_quat("-Z", "Y").to_euler()
-    bpy.context.view_layer.update()
+    aimed_camera((2.2, -3.2, 1.4), (0.0, 0.0, 0.1))
     return tree
 
 

@@ -3,6 +3,7 @@ preview object places it (moving the preview moves the model and its ink)."""
 import bpy
 import numpy as np
 import pytest
+from aimed_camera import aimed_camera
 from mathutils import Vector
 
 
@@ -27,13 +28,7 @@ def test_moving_the_preview_moves_the_model_and_its_ink(example):
     tree.ink.grid_resolution = 10
     tree.preview_object.location = (5.0, 1.0, -2.0)
     tree.preview_object.rotation_euler = (0.3, 0.0, 0.7)
-    sc = bpy.context.scene
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    cam.location = (5.0, -4.0, -1.0)
-    cam.rotation_euler = (Vector((5.0, 1.0, -2.0)) - cam.location).to_track_quat("-Z", "Y").to_euler()
-    bpy.context.view_layer.update()
+    cam = aimed_camera((5.0, -4.0, -1.0), (5.0, 1.0, -2.0))
     assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
     ink = bpy.data.objects["sphere Ink"]
     assert ink.parent == tree.preview_object
@@ -82,12 +77,7 @@ def test_a_model_outside_the_camera_says_so_when_drawn_from_camera(ext, example)
     bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
     tree = bpy.data.node_groups["sphere"]
     sc = bpy.context.scene
-    cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
-    sc.collection.objects.link(cam)
-    sc.camera = cam
-    cam.location = (0.0, -6.0, 0.0)
-    cam.rotation_euler = (Vector((0.0, 0.0, 0.0)) - cam.location).to_track_quat("-Z", "Y").to_euler()
-    bpy.context.view_layer.update()
+    aimed_camera((0.0, -6.0, 0.0), (0.0, 0.0, 0.0))
     assert jobs.off_camera(sc, tree) is None                      # in the middle of the frame
     tree.preview_object.location = (4.0, 0.0, 0.0)                # beside it: out of the frame
     bpy.context.view_layer.update()
