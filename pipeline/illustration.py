@@ -28,6 +28,7 @@ from ..blackboard.view import View
 from ..model import Evaluator
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
+from ..strokes.stipples import Spacing
 from . import layers as LY
 from .continuation import Continuation
 from .framing import bounds, default_light, line_radius, stroke_unit, three_quarter_eye
@@ -98,6 +99,7 @@ class Illustration:
         self.completed = []            # the stages done (a stop skips the rest)
         self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
         self._rng = None                   # ... and the chains' random generator
+        self._spacing = None               # ... and the stipples' spacing (strokes.stipples.Spacing)
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -307,8 +309,11 @@ class Illustration:
         self._stroke_layer(STYLE_LAYERS["short"], LY.mark_parts, LY.short, "short")
 
     def _stipples(self):
+        if self._parts is None:
+            self._spacing = Spacing()      # the layer's dots kept so far, over its parts
         layer = STYLE_LAYERS["stipples"]
-        self._stroke_layer(layer, LY.mark_parts, LY.stipples, "stipples", drawn=self.layers.get(layer, ()))
+        self._stroke_layer(layer, LY.mark_parts, LY.stipples, "stipples", drawn=self.layers.get(layer, ()),
+                           spacing=self._spacing)
 
     def _single(self):
         cursor = [r.cursor for r in self.requests if r.kind == SINGLE_STROKE][0]

@@ -149,14 +149,14 @@ def short(cv, sampling, st, region, part):
                            every_path=cv.settled, **kw)
 
 
-def stipples(cv, sampling, st, region, part, drawn=()):
+def stipples(cv, sampling, st, region, part, drawn=(), spacing=None):
     """Stipples from a part's wandering smarticles, apart from each other and from the
-    layer's dots ``drawn`` by the parts before."""
+    dots the parts before kept (``spacing``, strokes.stipples.Spacing) and drew (``drawn``)."""
     step = 0.5 * STEP * cv.unit
     return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.8 * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
-                      every_path=cv.settled, drawn=drawn)
+                      every_path=cv.settled, drawn=drawn, spacing=spacing)
 
 
 def single_stroke(cv, st, point, seed=0):

@@ -16,14 +16,15 @@ STIPPLE_GAP = 1.1       # stipples keep this many times their radii's sum apart 
 
 
 def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
-             region=None, contrast=1.0, paths=None, every_path=False, drawn=()):
+             region=None, contrast=1.0, paths=None, every_path=False, drawn=(), spacing=None):
     """One-point strokes at every ``every``-th step of wandering smarticles started at
     the marks in shade: each dot is drawn as its own shade says (in the penumbra at
     random, by its own key: a light tone is no trail of one smarticle's dots), kept
-    apart on the surface (:func:`spaced`, also from the dots ``drawn`` before), and the
-    visible ones drawn finer where they would touch on the paper (:func:`fitted`); each
-    dot's mark is its smarticle's key and step (``paths``, ``every_path``: as for
-    :func:`hatching`)."""
+    apart on the surface (``spacing``: a :class:`Spacing` that holds the dots the
+    layer's parts before kept, seen or not; a new one without), and the visible ones
+    drawn finer where they would touch on the paper (:func:`fitted`, also against the
+    dots ``drawn`` before); each dot's mark is its smarticle's key and step (``paths``,
+    ``every_path``: as for :func:`hatching`)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")
@@ -53,7 +54,7 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
         keep &= region.contains(D)
     D, Nn, shade, K = D[keep], Nn[keep], shade[keep], K[keep]
     r, o = tone(shade, upper, radius, contrast)
-    apart = spaced(D, r, K, drawn)
+    apart = (spacing if spacing is not None else Spacing()).keep(D, r, K)
     D, Nn, K, r, o = D[apart], Nn[apart], K[apart], r[apart], o[apart]
     vis = visible(ev, D, eye, Nn)
     D, K, o = D[vis], K[vis], o[vis]
@@ -63,20 +64,36 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True, mark=int(k)) for i, (p, k) in enumerate(zip(D, K))]
 
 
-def spaced(P, radii, keys, drawn=()):
+class Spacing:
+    """The stipples a layer keeps on the surface, over its parts: each part's dots keep
+    apart from the dots the parts before it kept (hidden ones too, so what is kept does
+    not depend on the view)."""
+
+    def __init__(self):
+        self.points, self.radii = np.zeros((0, 3)), np.zeros(0)
+
+    def keep(self, P, radii, keys):
+        """Which of the dots keep apart (:func:`spaced`) from each other and from the
+        dots kept before; the kept ones are kept here too."""
+        apart = spaced(P, radii, keys, self.points, self.radii)
+        self.points = np.vstack([self.points, np.asarray(P, float).reshape(-1, 3)[apart]])
+        self.radii = np.concatenate([self.radii, np.asarray(radii, float)[apart]])
+        return apart
+
+
+def spaced(P, radii, keys, before=np.zeros((0, 3)), before_radii=np.zeros(0)):
     """Which of the dots at ``P`` (with their ``radii`` and marks' ``keys``) keep apart on
     the surface: taken in the order of the numbers their keys draw (model.keyed),
-    highest first, a dot is kept unless a kept one, or one of ``drawn`` (the dots drawn
-    before, Strokes), is closer than STIPPLE_GAP times their radii's sum. The order is
-    the dots' own and the test is in the model's space, so the same dots are kept
+    highest first, a dot is kept unless a kept one, or one of the dots ``before`` (with
+    their ``before_radii``), is closer than STIPPLE_GAP times their radii's sum. The order
+    is the dots' own and the test is in the model's space, so the same dots are kept
     whichever order they come in and from every side (a turning view keeps them)."""
     keep = np.ones(len(P), bool)
     if len(P) == 0:
         return keep
     radii = np.asarray(radii, float)
-    if len(drawn):
-        Q = np.array([s.points[0] for s in drawn])
-        rq = np.array([s.radius[0] for s in drawn])
+    if len(before):
+        Q, rq = np.asarray(before, float), np.asarray(before_radii, float)
         i, j = pairs_within(P, Q, STIPPLE_GAP * (radii.max() + rq.max()))
         keep[i[((P[i] - Q[j]) ** 2).sum(1) < (STIPPLE_GAP * (radii[i] + rq[j])) ** 2]] = False
     i, j = pairs_within(P, P, STIPPLE_GAP * 2.0 * radii.max())

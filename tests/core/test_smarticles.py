@@ -172,9 +172,27 @@ def test_spaced_keeps_the_dots_taking_them_one_by_one_in_their_keys_order():
     far = SP.spaced(np.vstack([P, [[50.0, 0, 0]]]), np.append(radii, 0.05), np.arange(401, dtype=np.uint64))
     assert (far[:400] == keep).all() and far[400]
     first = int(np.flatnonzero(keep)[0])
-    drawn = [Stroke(P[first:first + 1] + [1e-3, 0, 0], np.array([radii[first]]), np.array([1.0]), dots=True)]
-    assert not SP.spaced(P, radii, k, drawn)[first]
+    assert not SP.spaced(P, radii, k, P[first:first + 1] + [1e-3, 0, 0], radii[first:first + 1])[first]
     assert SP.spaced(np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.uint64)).shape == (0,)
+
+
+def test_a_layers_spacing_holds_its_parts_kept_dots_hidden_ones_too():
+    """A stipple layer drawn in parts keeps each part's dots apart from the dots the
+    parts before kept, seen from the eye or not, so what is kept does not depend on the
+    view: the far side's dots are in the spacing, and a second part at the same marks
+    adds no dot."""
+    ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
+    marks = surface_marks(ev, 0.03)
+    eye = np.array([0.0, -6.0, 0.0])
+    spacing = SP.Spacing()
+    dots = SP.stipples(ev, marks, eye, (0.0, 0.0, -1.0), 0.02, radius=0.01, spacing=spacing)
+    assert dots and len(spacing.points) > len(dots)
+    assert (spacing.points[:, 1] > 0.2).sum() > 20                      # on the side turned from the eye
+    drawn = np.array([s.points[0] for s in dots])
+    assert all(np.min(np.linalg.norm(spacing.points - p, axis=1)) < 1e-12 for p in drawn)
+    n = len(spacing.points)
+    again = SP.stipples(ev, marks, eye, (0.0, 0.0, -1.0), 0.02, radius=0.01, spacing=spacing)
+    assert again == [] and len(spacing.points) == n
 
 
 def test_fitted_dots_shrink_smoothly_where_they_crowd_on_the_paper():
