@@ -68,24 +68,24 @@ def camera_eye(scene, depsgraph=None):
     return None if cam is None else np.array(_world(cam, depsgraph).translation, float)
 
 
-IN_CAMERA = 0.75            # less of a model's box than this share in the camera's frame: say so
+IN_CAMERA = 0.75            # less of a model than this share in the camera's frame: say so
+CAMERA_SAMPLES = 400        # the preview's vertices that tell, at most
 
 
 def off_camera(scene, tree):
     """A warning when the tree's preview (the model as the artist sees it) lies partly
-    outside the scene camera's frame (less than IN_CAMERA of its box's picture inside,
-    or all of it behind the camera), else None (also without a camera or a preview)."""
+    outside the scene camera's frame (less than IN_CAMERA of its vertices, an even
+    sample of at most CAMERA_SAMPLES, in the frame and in front of the camera), else
+    None (also without a camera or a preview)."""
     from bpy_extras.object_utils import world_to_camera_view
     cam, obj = scene.camera, tree.preview_object
     if cam is None or obj is None or obj.data is None or not len(obj.data.vertices):
         return None
-    seen = np.array([tuple(world_to_camera_view(scene, cam, obj.matrix_world @ Vector(c))) for c in obj.bound_box])
-    ahead = seen[seen[:, 2] > 0, :2]
-    inside = 0.0
-    if len(ahead):
-        a, b = ahead.min(axis=0), ahead.max(axis=0)
-        inside = float(np.prod(np.clip(np.minimum(b, 1.0) - np.maximum(a, 0.0), 0.0, None)) /
-                       np.prod(np.maximum(b - a, 1e-9)))
+    co = np.empty(3 * len(obj.data.vertices), np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)[::max(1, len(co) // 3 // CAMERA_SAMPLES)]
+    seen = np.array([tuple(world_to_camera_view(scene, cam, obj.matrix_world @ Vector(c))) for c in co.tolist()])
+    inside = float(np.mean((seen[:, 2] > 0) & (seen[:, :2] >= 0).all(axis=1) & (seen[:, :2] <= 1).all(axis=1)))
     if inside >= IN_CAMERA:
         return None
     return (f"'{tree.name}' is {'outside' if inside == 0 else 'partly outside'} the scene camera's view: move the "

@@ -19,6 +19,8 @@ from .common import blobtrees, ink_name
 
 _rendering = []                # a render is under way (between its init and its end)
 _drew = []                     # (tree, frame) drawn by the render under way
+_undo_wanted = []              # a render drew frames: the main thread's timer makes them an undo step
+UNDO_POLL = 0.5                # seconds between the timer's looks
 _previous = {}                 # tree name -> what its last rendered frame left the next (during a render)
 drawn = []                     # (tree, frame) drawn by renders in this session (for tests and the console)
 
@@ -56,20 +58,25 @@ def _render_init(*_args):
 
 @bpy.app.handlers.persistent
 def _render_end(*_args):
-    if _drew and not bpy.app.background:
-        bpy.app.timers.register(_undo_step, first_interval=0.0)
+    if _drew:
+        _undo_wanted[:] = [True]
     _rendering.clear()
     _previous.clear()
     _drew.clear()
 
 
 def _undo_step():
-    """An undo step for the frames a render in the UI drew (a render is no operator: without
-    it, the next Ctrl+Z would go back past them, to before the render)."""
-    wm = bpy.context.window_manager
-    if wm is not None and wm.windows:
-        with bpy.context.temp_override(window=wm.windows[0]):
-            bpy.ops.ed.undo_push(message="BlobTree Ink: frames drawn by the render")
+    """An undo step for the frames a render in the UI drew (a render is no operator:
+    without it, the next Ctrl+Z would go back past them, to before the render). A
+    timer of the main thread's, registered once: a render's handlers may run on its
+    own thread, where Blender data and the undo stack are not to be touched."""
+    if _undo_wanted and not _rendering:
+        _undo_wanted.clear()
+        wm = bpy.context.window_manager
+        if wm is not None and wm.windows:
+            with bpy.context.temp_override(window=wm.windows[0]):
+                bpy.ops.ed.undo_push(message="BlobTree Ink: frames drawn by the render")
+    return UNDO_POLL
 
 
 @bpy.app.handlers.persistent
@@ -89,8 +96,13 @@ HANDLERS = ((bpy.app.handlers.render_init, _render_init), (bpy.app.handlers.rend
 
 def register():
     handlers.attach(HANDLERS)
+    if not bpy.app.background and not bpy.app.timers.is_registered(_undo_step):
+        bpy.app.timers.register(_undo_step, first_interval=UNDO_POLL, persistent=True)
 
 
 def unregister():
     handlers.detach(HANDLERS)
+    if bpy.app.timers.is_registered(_undo_step):
+        bpy.app.timers.unregister(_undo_step)
+    _undo_wanted.clear()
     _rendering.clear()

@@ -23,6 +23,7 @@ from ..strokes.data import Stroke
 from ..strokes.style import outline_strokes, view_right
 
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
+STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii (before its shade's tone)
 SINGLE_STEPS = 60           # a single stroke's steps, at most
 CHUNK = 1000                # starts per part of a stroke layer (one pipeline step each)
 CHUNK_OUTLINES = 40         # outlines per part of the chain strokes
@@ -154,7 +155,7 @@ def stipples(cv, sampling, st, region, part, drawn=(), spacing=None):
     dots the parts before kept (``spacing``, strokes.stipples.Spacing) and drew (``drawn``)."""
     step = 0.5 * STEP * cv.unit
     return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
-                      lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=1.8 * cv.radius(st),
+                      lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=STIPPLE_RADIUS * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
                       every_path=cv.settled, drawn=drawn, spacing=spacing)
 

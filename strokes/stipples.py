@@ -85,9 +85,10 @@ def spaced(P, radii, keys, before=np.zeros((0, 3)), before_radii=np.zeros(0)):
     """Which of the dots at ``P`` (with their ``radii`` and marks' ``keys``) keep apart on
     the surface: taken in the order of the numbers their keys draw (model.keyed),
     highest first, a dot is kept unless a kept one, or one of the dots ``before`` (with
-    their ``before_radii``), is closer than STIPPLE_GAP times their radii's sum. The order
-    is the dots' own and the test is in the model's space, so the same dots are kept
-    whichever order they come in and from every side (a turning view keeps them)."""
+    their ``before_radii``), is closer than STIPPLE_GAP times their radii's sum (two
+    equal numbers, which practically never happen, in the order the dots come). The
+    order is the dots' own and the test is in the model's space, so the same dots are
+    kept from every side (a turning view keeps them)."""
     keep = np.ones(len(P), bool)
     if len(P) == 0:
         return keep

@@ -319,14 +319,15 @@ def test_save_and_reload_keeps_the_tree(ext, example, tmp_path):
     assert tree.preview_object is not None and len(tree.preview_object.data.polygons) > 100
 
 
-def test_a_file_saved_before_its_preview_was_built_builds_it_when_opened(ext, tmp_path):
+def test_a_file_saved_before_its_preview_was_built_builds_it_when_opened(ext, example, tmp_path):
     """In the UI the preview's mesh comes a moment after an import: a file saved in
     between holds an empty preview, and opening it builds the preview (and only that
     tree's)."""
     changes = mod(ext, "blobtree_nodes.changes")
     t, _ = pear_by_hand()
-    other = new_tree("Other")
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)    # a preview saved whole
     changes.run_due(float("inf"))
+    assert len(bpy.data.node_groups["sphere"].preview_object.data.vertices) > 0
     t.preview_object.data.clear_geometry()                # saved before the mesh came
     name = t.name
     path = str(tmp_path / "early.blend")
@@ -336,7 +337,7 @@ def test_a_file_saved_before_its_preview_was_built_builds_it_when_opened(ext, tm
     assert len(tree.preview_object.data.vertices) == 0 and list(changes.pending()) == [name]
     changes.run_due(float("inf"))
     assert len(tree.preview_object.data.polygons) > 100
-    assert "Other" in bpy.data.node_groups and not changes.pending()
+    assert "sphere" in bpy.data.node_groups and not changes.pending()
 
 
 def test_undo_and_redo_schedule_previews(ext):

@@ -77,7 +77,10 @@ def test_a_model_outside_the_camera_says_so_when_drawn_from_camera(ext, example)
     bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
     tree = bpy.data.node_groups["sphere"]
     sc = bpy.context.scene
-    aimed_camera((0.0, -6.0, 0.0), (0.0, 0.0, 0.0))
+    cam = aimed_camera((0.0, -2.5, 0.0), (0.0, 0.0, 0.0))
+    assert jobs.off_camera(sc, tree) is None                      # filling most of the frame's height
+    cam.location = (0.0, -6.0, 0.0)
+    bpy.context.view_layer.update()
     assert jobs.off_camera(sc, tree) is None                      # in the middle of the frame
     tree.preview_object.location = (4.0, 0.0, 0.0)                # beside it: out of the frame
     bpy.context.view_layer.update()

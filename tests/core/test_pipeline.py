@@ -191,5 +191,5 @@ def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monke
     d = np.linalg.norm(U[:, None] - U[None], axis=2) + np.eye(len(U)) * 1e9
     assert (d >= L.STIPPLE_GAP * (a[:, None] + a[None]) * (1 - 1e-9)).all()
     # and apart on the surface, at the radii the shade gives them (at least the smallest's)
-    full = 1.2 * ill.canvas.radius(ill.style) * 0.5
+    full = LY.STIPPLE_RADIUS * ill.canvas.radius(ill.style) * 0.5      # the smallest the shade makes
     assert (np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) >= L.STIPPLE_GAP * 2 * full).all()
