@@ -5,7 +5,6 @@ import bpy
 
 from .common import InkLayerOperator
 from .frames import shown_key
-from .toggle_layer import layer_tip
 
 
 class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):
@@ -13,15 +12,9 @@ class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):
     bl_idname = "blobtree_ink.clear_layer"
     bl_label = "Clear Ink Layer"
     bl_options = {"REGISTER", "UNDO"}
+    tip = "Remove this layer's strokes at this frame (its drawing held here)"
 
-    @classmethod
-    def description(cls, context, properties):
-        return f"Remove this layer's strokes at this frame (its drawing held here). {layer_tip(properties.layer)}"
-
-    def execute(self, context):
-        layer = self.ink_layer()
-        if layer is None:
-            return {"CANCELLED"}
+    def act(self, context, layer):
         key = shown_key(layer, context.scene.frame_current)
         n = len(key.drawing.strokes) if key is not None else 0
         if n:

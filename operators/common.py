@@ -20,20 +20,40 @@ def tree_of_object(obj):
     return None
 
 
+LAYER_TIPS = {
+    "Silhouette": "The silhouettes: where the surface turns away from the eye",
+    "Crease": "The creases: where unions, intersections and differences meet",
+    "Curvature": "Curvature-sign lines: where the surface turns from convex to concave",
+    "Suggestive": "Suggestive contours: where the surface comes closest to turning away from the eye",
+    "Ridges": "Apparent ridges: the crests where the surface, as seen, bends most sharply",
+    "Hatching": "Hatching and cross-hatching in the shade",
+    "Chains": "Strokes started from the silhouette and crease chains",
+    "Short Strokes": "Short strokes through points spread over the shaded surface",
+    "Stipples": "Stipples in the shade",
+    "Single Strokes": "The single strokes drawn from the 3D cursor",
+}
+
+
 class InkLayerOperator:
     """Mixin of the operators on one layer of an ink (Grease Pencil) object, which the
-    sidebar's Ink Layers rows call with the object's and the layer's names."""
+    sidebar's Ink Layers rows call with the object's and the layer's names: a subclass
+    says what it does (``tip``) and does it to the layer found (``act``)."""
     object_name: bpy.props.StringProperty(name="Ink Object", options={"SKIP_SAVE"},
                                           description="The Grease Pencil object")
     layer: bpy.props.StringProperty(name="Layer", options={"SKIP_SAVE"}, description="The layer")
+    tip = ""
 
-    def ink_layer(self):
-        """The layer, or None with an error reported naming what is missing."""
+    @classmethod
+    def description(cls, context, properties):
+        return f"{cls.tip}. {LAYER_TIPS.get(properties.layer, f'The {properties.layer} layer')}"
+
+    def execute(self, context):
         obj = bpy.data.objects.get(self.object_name)
         found = obj.data.layers.get(self.layer) if obj is not None and obj.type == "GREASEPENCIL" else None
         if found is None:
             self.report({"ERROR"}, f"no ink layer '{self.layer}' on '{self.object_name}'")
-        return found
+            return {"CANCELLED"}
+        return self.act(context, found)
 
 
 def ink_name(tree):
