@@ -1,5 +1,6 @@
 """Real Blender tier: the Blender binary set up by tools/provision (Debian sid's 5.2 LTS
 in the project's chroot, or the machine's own blender 4.5+), driven from plain pytest."""
+import json
 import os
 import shutil
 import subprocess
@@ -70,3 +71,20 @@ def read_png(path):
 def artifact(name):
     os.makedirs(ARTIFACTS, exist_ok=True)
     return os.path.join(ARTIFACTS, name)
+
+
+def run_ui_script(script, user_dir, tmp_path):
+    """Run a tests/real/ui script through the harness: (its output folder, its facts)."""
+    out = str(tmp_path / "ui")
+    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
+                "--script", os.path.join(REPO, "tests", "real", "ui", script),
+                "--out", out, "--user", user_dir, timeout=300)
+    facts = json.load(open(os.path.join(out, "facts.json")))
+    print(f"real-UI {script}:", json.dumps(facts))
+    return out, facts
+
+
+def darkest(img, xy):
+    """The darkest pixel of each point's 3x3 neighbourhood (points inside the image)."""
+    x, y = np.floor(xy[:, 0]).astype(int), np.floor(xy[:, 1]).astype(int)
+    return np.min([img[y + dy, x + dx] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)

@@ -6,7 +6,7 @@ import re
 import shutil
 
 import numpy as np
-from conftest import REPO, artifact, blender, blender_env, read_png, run
+from conftest import REPO, artifact, blender, blender_env, darkest, read_png, run, run_ui_script
 
 
 def test_extension_build_and_validate(built_zip):
@@ -144,17 +144,6 @@ def test_real_ui_stays_responsive_while_the_shell_is_illustrated(user_dir, tmp_p
     shutil.copy(os.path.join(out, "responsive_shell.png"), artifact("responsive_shell.png"))
 
 
-def run_ui_script(script, user_dir, tmp_path):
-    """Run a tests/real/ui script through the harness: (its output folder, its facts)."""
-    out = str(tmp_path / "ui")
-    blender_env("python3", os.path.join(REPO, "tests", "real", "ui", "harness.py"),
-                "--script", os.path.join(REPO, "tests", "real", "ui", script),
-                "--out", out, "--user", user_dir, timeout=300)
-    facts = json.load(open(os.path.join(out, "facts.json")))
-    print(f"real-UI {script}:", json.dumps(facts))
-    return out, facts
-
-
 def test_real_ui_add_menu_search_and_whole_node_errors(user_dir, tmp_path):
     """Shift+A, "poi", Return and a click add a Point node; an error is on its node
     whole (wrapped), in the sidebar's Errors panel and in the error icon's tooltip."""
@@ -199,12 +188,6 @@ def _ink_mask(strokes, shape, reach=3, step=0.5):
         for dx in range(-reach, reach + 1):
             near[np.clip(Q[:, 1] + dy, 0, h - 1), np.clip(Q[:, 0] + dx, 0, w - 1)] = True
     return near
-
-
-def _darkest(img, xy):
-    """The darkest pixel of each point's 3x3 neighbourhood (points inside the image)."""
-    x, y = np.floor(xy[:, 0]).astype(int), np.floor(xy[:, 1]).astype(int)
-    return np.min([img[y + dy, x + dx] for dy in (-1, 0, 1) for dx in (-1, 0, 1)], axis=0)
 
 
 def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
@@ -277,7 +260,7 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
             xy = np.array([q for s in points[name] for q in s], float)
             inside = (xy[:, 0] >= 1) & (xy[:, 0] < 959) & (xy[:, 1] >= 1) & (xy[:, 1] < 539)
             assert inside.all(), f"{label}: the {name} layer leaves the frame"
-            dark = _darkest(img, xy)
+            dark = darkest(img, xy)
             assert np.median(dark) < 0.55, f"{label}: the {name} layer is not ink in the render ({np.median(dark):.2f})"
             near_ink |= _ink_mask(points[name], img.shape)
         paper = img[~near_ink]
@@ -297,7 +280,7 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
     assert len(S) > 100
     before, after = (read_png(artifact(n)).astype(float).mean(axis=2) / 255
                      for n in ("first_hour_3_outlines.png", "first_hour_4_stippled.png"))
-    d0, d1 = _darkest(before, S), _darkest(after, S)
+    d0, d1 = darkest(before, S), darkest(after, S)
     assert np.median(d1) < np.median(d0) - 0.1, (np.median(d0), np.median(d1))
     assert (d0 - d1 > 0.15).sum() > 200, "the stipples do not show in the viewport"
     x, y, w, h = view["viewport"]
@@ -312,66 +295,7 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
     for name, a, b in (("silhouette", camera, before), ("hatching", after, full)):
         P = np.array(view[name], float)
         print(f"viewport {name}: {len(P)} points, darkened by 0.15 or more at "
-              f"{np.mean(_darkest(a, P) - _darkest(b, P) >= 0.15):.0%}")
-
-
-def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
-    """Issue #29 in the real UI (tests/real/ui/bake.py): Bake Frames from menu search
-    bakes the scene's range; Esc while frame 3 is under way keeps frames 1 and 2; the
-    whole range baked (Adjust Last Operation showing that range), the Right arrow steps
-    the timeline and the viewport shows each frame's own drawing; Ctrl+Z undoes a bake as one step (and Ctrl+Shift+Z redoes it);
-    Clear Frames clears them; a frame a render drew comes back when a Clear Frames after
-    it is undone; with the driving Empty deleted in the viewport the bake fails
-    on its first frame, draws nothing and keeps what was drawn."""
-    out, facts = run_ui_script("bake.py", user_dir, tmp_path)
-    assert "error" not in facts, facts.get("error")
-    assert facts["held_frames"] == [1, 2] and facts["held_state"] == "running"
-    assert facts["stopped_state"] == "stopped" and facts["stopped_frames"] == [1, 2]
-    assert facts["frame_after_stop"] == 1                                   # back where the artist was
-    assert facts["full_state"] == "done" and facts["full_frames"] == [1, 2, 3, 4, 5, 6]
-    assert facts["last_operator"] == "BLOBTREE_INK_OT_bake" and facts["last_range"] == [1, 6]
-    assert facts["redone_state"] == "done" and facts["redone_frames"] == [1, 2, 3, 4, 5, 6]
-    right = [facts["silhouette_right"][str(f)] for f in range(1, 7)]
-    assert right == sorted(right) and right[-1] > right[0] + 1.5            # following the Empty
-    assert facts["frames_seen"] == [1, 2, 3, 4, 5, 6]
-    assert facts["frames_after_undo"] == [1, 2] and facts["frames_after_redo"] == [1, 2, 3, 4, 5, 6]
-    assert facts["frames_after_clear"] == []
-    # a frame a render drew is an undo step of its own: undoing a later Clear Frames brings it back
-    assert facts["frames_rendered"] == [2] and facts["frames_cleared_after_render"] == []
-    assert facts["frames_after_undoing_the_clear"] == [2]
-    assert facts["deleted_state"] == "failed" and facts["deleted_frames"] == [2]     # drew nothing, lost nothing
-    shots = {}
-    for name in ("bake_held.png", "bake_stopped.png", "bake_frame_1.png", "bake_frame_6.png"):
-        shutil.copy(os.path.join(out, name), artifact(name))
-        shots[name] = read_png(artifact(name)).astype(float).mean(axis=2) / 255
-    pts = json.load(open(os.path.join(out, "bake_points.json")))
-    six = np.array(pts["frame6"], float)
-    assert len(six) > 20
-    at6, at1 = _darkest(shots["bake_frame_6.png"], six), _darkest(shots["bake_frame_1.png"], six)
-    # frame 6's silhouette is ink on screen at frame 6; at frame 1 the ball (and its ink) is elsewhere
-    assert np.median(at6) < 0.3 and np.median(at1) - np.median(at6) > 0.2, (np.median(at6), np.median(at1))
-
-
-def test_a_background_animation_render_of_an_example_scene(user_dir, tmp_path):
-    """Issue #29: examples/animation/rigid.py builds a .blend of the heart turning;
-    `blender -b FILE.blend -a` renders each frame with that frame's illustration (the
-    render handler draws it): ink on paper that moves from frame to frame, and the
-    frames' drawings saved in nothing but the render (the file is not written)."""
-    blend = str(tmp_path / "rigid.blend")
-    env = {"BLENDER_USER_RESOURCES": user_dir}
-    blender("-b", "--factory-startup", "--python", os.path.join(REPO, "examples", "animation", "rigid.py"),
-            "--", blend, env=env, timeout=600)
-    p = blender("-b", blend, "-E", "BLENDER_WORKBENCH", "-o", str(tmp_path / "frame_####"), "-F", "PNG",
-                "-s", "1", "-e", "3", "-a", env=env, timeout=900)
-    frames = [read_png(str(tmp_path / f"frame_{f:04d}.png")).astype(float).mean(axis=2) / 255 for f in (1, 2, 3)]
-    for f, img in zip((1, 2, 3), frames):
-        shutil.copy(str(tmp_path / f"frame_{f:04d}.png"), artifact(f"animation_rigid_{f}.png"))
-        ink = img < 0.5
-        assert np.median(img) > 0.97, f"frame {f}: not on white paper"
-        assert 0.002 < ink.mean() < 0.2, f"frame {f}: {ink.mean():.4f} of the image is ink"
-    moved = [np.mean(np.abs((a < 0.5).astype(float) - (b < 0.5))) for a, b in zip(frames, frames[1:])]
-    assert all(m > 0.001 for m in moved), moved                        # each frame its own drawing
-    assert "Traceback" not in p.stdout + p.stderr
+              f"{np.mean(darkest(a, P) - darkest(b, P) >= 0.15):.0%}")
 
 
 def test_real_ui_an_artist_turns_on_curvature_lines_suggestive_contours_and_ridges(user_dir, tmp_path):
@@ -394,10 +318,10 @@ def test_real_ui_an_artist_turns_on_curvature_lines_suggestive_contours_and_ridg
     drawn = json.load(open(os.path.join(out, "lines_points.json")))
     pts = np.array(drawn["curvature"], float)
     assert len(pts) >= 5
-    assert np.median(_darkest(shot, pts)) < 0.3           # the curvature lines are ink on screen
+    assert np.median(darkest(shot, pts)) < 0.3           # the curvature lines are ink on screen
     pts = np.array(drawn["suggestive"], float)
     assert len(pts) >= 5
-    assert np.median(_darkest(shot, pts)) < 0.3           # and so are the suggestive contours
+    assert np.median(darkest(shot, pts)) < 0.3           # and so are the suggestive contours
     pts = np.array(drawn["ridges"], float)
     assert len(pts) >= 5
-    assert np.median(_darkest(shot, pts)) < 0.3           # and the apparent ridges
+    assert np.median(darkest(shot, pts)) < 0.3           # and the apparent ridges
