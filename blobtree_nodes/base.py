@@ -13,9 +13,9 @@ import json
 import bpy
 
 from . import changes, wrap
+from .idnames import TREE
 from .sockets import SOCKET
 
-TREE = "BlobTreeInkNodeTree"
 ERROR_COLOR = (0.65, 0.12, 0.12)
 SHOW_ERROR = "blobtree_ink.show_node_error"     # its tooltip is the node's whole error
 

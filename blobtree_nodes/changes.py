@@ -14,6 +14,8 @@ import time
 
 import bpy
 
+from .idnames import TREE
+
 DELAY = 0.35                     # seconds of quiet before a rebuild
 MAX_WAIT = 1.0                   # seconds from a first change to its rebuild, at most, however many follow
 WAIT_PER_REBUILD = 2.0           # ... or this many times the tree's last rebuild's seconds, if longer
@@ -96,7 +98,7 @@ def run_due(now=None):
         del _pending[name]
         _since.pop(name, None)
         tree = bpy.data.node_groups.get(name)
-        if tree is not None and tree.bl_idname == "BlobTreeInkNodeTree" and _rebuild:
+        if tree is not None and tree.bl_idname == TREE and _rebuild:
             t = _clock()
             if _rebuild[0](tree):
                 done.append(name)

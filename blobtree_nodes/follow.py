@@ -7,8 +7,8 @@ import bpy
 
 from . import animation, changes, handlers
 from .compile import in_no_scene
+from .idnames import TREE
 
-TREE = "BlobTreeInkNodeTree"
 _followed = {}                   # tree name -> (edit count, names of the objects its nodes follow)
 _gone = {}                       # tree name -> those of them in no scene, as last seen
 

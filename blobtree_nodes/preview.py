@@ -14,6 +14,7 @@ from ..blackboard.polygonise import GridError, polygonise, surface_box
 from ..model import Evaluator
 from . import changes, handlers
 from .compile import tree_model_or_none
+from .idnames import TREE
 
 COLLECTION = "BlobTree Ink"
 PAPER_MATERIAL = "BlobTree Ink Paper Mesh"
@@ -152,7 +153,7 @@ def write_mesh(me, vertices, quads):
 @bpy.app.handlers.persistent
 def _after_undo(*_args):
     for tree in bpy.data.node_groups:
-        if tree.bl_idname == "BlobTreeInkNodeTree" and tree.show_preview:
+        if tree.bl_idname == TREE and tree.show_preview:
             changes.schedule(tree)
 
 
@@ -163,7 +164,7 @@ def _after_load(*_args):
     mesh, and is built again."""
     changes.forget()
     for tree in bpy.data.node_groups:
-        if tree.bl_idname == "BlobTreeInkNodeTree" and tree.show_preview:
+        if tree.bl_idname == TREE and tree.show_preview:
             obj = tree.preview_object
             if obj is not None and obj.data is not None and len(obj.data.vertices) == 0:
                 changes.schedule(tree, edit=False)

@@ -1,16 +1,57 @@
-"""The BlobTree node tree type and its settings."""
+"""The BlobTree node tree type and its settings; which tree an object belongs to, and
+which tree a node editor shows."""
 import bpy
 
 from . import changes
+from .idnames import TREE
 from .settings import BlobTreeInkSettings
+
 
 def _schedule(tree):
     changes.schedule(tree)
 
 
+def blobtrees():
+    return [t for t in bpy.data.node_groups if t.bl_idname == TREE]
+
+
+def ink_name(tree):
+    """The name of a tree's ink (Grease Pencil) object."""
+    return f"{tree.model_name or tree.name} Ink"
+
+
+def tree_of_object(obj):
+    """The BlobTree whose preview or ink object this is, or None."""
+    if obj is None:
+        return None
+    for t in blobtrees():
+        if t.preview_object is not None and t.preview_object.name == obj.name:
+            return t
+        if obj.name == ink_name(t):
+            return t
+    return None
+
+
+_followed = {}                   # a node editor's address -> the active object it last followed
+
+
+def shown_in_editor(space, obj):
+    """The tree a BlobTree node editor (``space``, not pinned) shows while ``obj`` is the
+    active object: that object's tree when the artist has just made it active (or the
+    editor shows none), else the tree the editor shows (one the artist browsed to)."""
+    key = space.as_pointer() if space is not None else 0
+    name = obj.name_full if obj is not None else ""
+    shown = getattr(space, "node_tree", None)
+    shown = shown if shown is not None and shown.bl_idname == TREE else None
+    moved = _followed.get(key) != name
+    _followed[key] = name
+    owned = tree_of_object(obj)
+    return owned if owned is not None and (moved or shown is None) else shown
+
+
 class BlobTreeNodeTree(bpy.types.NodeTree):
     """A skeletal implicit model built from BlobTree nodes"""
-    bl_idname = "BlobTreeInkNodeTree"
+    bl_idname = TREE
     bl_label = "BlobTree"
     bl_icon = "META_BALL"
 
@@ -31,6 +72,15 @@ class BlobTreeNodeTree(bpy.types.NodeTree):
                                          "(the tree's name when empty)")
     exact_iso: bpy.props.StringProperty(options={"HIDDEN"})
     ink: bpy.props.PointerProperty(type=BlobTreeInkSettings, name="Illustration Settings")
+
+    @classmethod
+    def get_from_context(cls, context):
+        """The editor follows the active object's tree, as a shader editor follows its
+        material; the pin keeps a tree."""
+        space = getattr(context, "space_data", None)
+        if space is None or getattr(space, "type", "") != "NODE_EDITOR":
+            return None, None, None
+        return shown_in_editor(space, getattr(context, "active_object", None)), None, None
 
     def update(self):
         # a tree is nobody's data-block user: keep it in saved files like a material

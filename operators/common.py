@@ -1,23 +1,7 @@
 """Helpers shared by operators."""
 import bpy
 
-TREE = "BlobTreeInkNodeTree"
-
-
-def blobtrees():
-    return [t for t in bpy.data.node_groups if t.bl_idname == TREE]
-
-
-def tree_of_object(obj):
-    """The BlobTree whose preview or ink object this is, or None."""
-    if obj is None:
-        return None
-    for t in blobtrees():
-        if t.preview_object is not None and t.preview_object.name == obj.name:
-            return t
-        if obj.name == ink_name(t):
-            return t
-    return None
+from ..blobtree_nodes.tree import TREE, blobtrees, ink_name, tree_of_object  # noqa: F401 (the operators' names for them)
 
 
 LAYER_TIPS = {
@@ -54,11 +38,6 @@ class InkLayerOperator:
             self.report({"ERROR"}, f"no ink layer '{self.layer}' on '{self.object_name}'")
             return {"CANCELLED"}
         return self.act(context, found)
-
-
-def ink_name(tree):
-    """The name of a tree's ink (Grease Pencil) object."""
-    return f"{tree.model_name or tree.name} Ink"
 
 
 def active_tree(context):

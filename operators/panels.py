@@ -11,7 +11,7 @@ from ..blobtree_nodes.compile import output_nodes
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from . import frames as FR
-from .common import active_tree, blobtrees, focus, ink_name
+from .common import TREE, active_tree, blobtrees, focus, ink_name
 from .illustrate import REQUESTS, last_run
 from .menus import REQUEST_ICONS
 
@@ -212,7 +212,7 @@ class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
 
     @classmethod
     def poll(cls, context):
-        return getattr(context.space_data, "tree_type", "") == "BlobTreeInkNodeTree" and \
+        return getattr(context.space_data, "tree_type", "") == TREE and \
             context.space_data.node_tree is not None
 
     def draw(self, context):

@@ -22,6 +22,7 @@ from .. import pipeline as PL
 from ..agents import Settings
 from ..blobtree_nodes.animation import DriverError
 from ..blobtree_nodes.compile import TreeError
+from ..blobtree_nodes.idnames import TREE
 from ..cli.render_args import CliError
 from ..grease_pencil import render as OUT
 from ..grease_pencil import scene as S
@@ -120,8 +121,8 @@ def render_scene(spec, log):
     except RuntimeError as e:
         raise CliError(f"{spec.model}: cannot be opened as a Blender file ({e})") from None
     tree = bpy.data.node_groups.get(spec.tree)
-    if tree is None or tree.bl_idname != "BlobTreeInkNodeTree":
-        names = ", ".join(t.name for t in bpy.data.node_groups if t.bl_idname == "BlobTreeInkNodeTree") or "none"
+    if tree is None or tree.bl_idname != TREE:
+        names = ", ".join(t.name for t in bpy.data.node_groups if t.bl_idname == TREE) or "none"
         raise CliError(f"{spec.model}: no BlobTree named '{spec.tree}' (its BlobTrees: {names})")
     sc = bpy.context.scene
     if sc.camera is None:

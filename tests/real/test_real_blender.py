@@ -146,7 +146,8 @@ def test_real_ui_stays_responsive_while_the_shell_is_illustrated(user_dir, tmp_p
 
 def test_real_ui_add_menu_search_and_whole_node_errors(user_dir, tmp_path):
     """Shift+A, "poi", Return and a click add a Point node; an error is on its node
-    whole (wrapped), in the sidebar's Errors panel and in the error icon's tooltip."""
+    whole (wrapped), in the sidebar's Errors panel and in the error icon's tooltip. The
+    editor follows the active object's tree."""
     out, facts = run_ui_script("node_editor.py", user_dir, tmp_path)
     assert "error" not in facts, facts.get("error")
     assert facts["nodes_before"] == [] and facts["nodes_after_add"] == ["point"]
@@ -171,6 +172,10 @@ def test_real_ui_add_menu_search_and_whole_node_errors(user_dir, tmp_path):
     below = (slice(y + 10, y + 60), slice(max(x - 40, 0), x + 200))
     changed = np.abs(shots["node_error_tooltip.png"][below] - shots["node_error_blend.png"][below]).sum(axis=2) > 30
     assert changed.mean() > 0.2
+    # the editor shows the active object's tree, and a tree browsed to until another object is made active
+    assert facts["active_after_import"] == "pear Preview" and facts["shown_after_import"] == "pear"
+    assert facts["shown_after_browse"] == "Sketch" and facts["shown_with_cube_active"] == "Sketch"
+    assert facts["shown_with_pear_active"] == "pear"
 
 
 def _ink_mask(strokes, shape, reach=3, step=0.5):

@@ -3,7 +3,10 @@ with the mouse over it: Shift+A, type "poi", Return, move and click to place: a 
 node, at the click. Then a Model Output with nothing linked, and a Blend linked to it
 with nothing linked in: each time the preview's compile puts the error on the node,
 and the sidebar's Errors panel (Node tab) shows it whole; hovering the node's error
-icon shows it as a tooltip. Screenshots of each step; facts for the test."""
+icon shows it as a tooltip. Then the editor follows the active object's tree (the
+pear's preview, made active by an import and again after another object), while a tree
+the artist browses to stays until another object is made active. Screenshots of each
+step; facts for the test."""
 import os
 import sys
 
@@ -11,7 +14,7 @@ import addon_utils
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from uistep import EXT, Steps, record  # noqa: E402
+from uistep import EXT, REPO, Steps, record  # noqa: E402
 
 TREE = "BlobTreeInkNodeTree"
 
@@ -114,6 +117,32 @@ def run():
     yield {"action": "screenshot", "name": "node_error_tooltip.png"}
     record(point_center=[round(v, 4) for v in point.center], point_width=point.width,
            version=bpy.app.version_string, background=bpy.app.background)
+    # --- the editor follows the active object's tree --------------------------------
+    yield from following_the_active_object(win, area, space, tree)
+
+
+def shown_after_redraw(area, space):
+    area.tag_redraw()
+    yield 0.6
+    return space.node_tree.name if space.node_tree is not None else None
+
+
+def following_the_active_object(win, area, space, sketch):
+    """The active object picks the editor's tree; browsing picks it until the active
+    object changes again."""
+    layer = bpy.context.view_layer
+    cube = bpy.data.objects.get("Cube")
+    with bpy.context.temp_override(window=win, area=area):
+        bpy.ops.blobtree_ink.import_json(filepath=os.path.join(REPO, "examples", "pear.json"), preview=True)
+    pear = bpy.data.node_groups["pear"]
+    record(active_after_import=layer.objects.active.name, shown_after_import=(yield from shown_after_redraw(area, space)))
+    space.node_tree = sketch                      # what the editor's browse menu does
+    record(shown_after_browse=(yield from shown_after_redraw(area, space)))
+    layer.objects.active = cube                   # an object of no tree: the browsed tree stays
+    record(shown_with_cube_active=(yield from shown_after_redraw(area, space)))
+    layer.objects.active = pear.preview_object
+    record(shown_with_pear_active=(yield from shown_after_redraw(area, space)))
+    yield {"action": "screenshot", "name": "node_editor_follows.png"}
 
 
 Steps(run())
