@@ -100,6 +100,7 @@ class Illustration:
         self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
         self._rng = None                   # ... and the chains' random generator
         self._spacing = None               # ... and the stipples' spacing (strokes.stipples.Spacing)
+        self._crowding = None              # ... and the hatching's strokes so far (strokes.crowding.Crowding)
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -293,11 +294,14 @@ class Illustration:
             self._parts = None
             self._next()
 
-    def _hatching(self):
-        self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching")
+    def _hatching(self, cross=False):
+        if self._parts is None:
+            self._crowding = LY.crowding(self.canvas)      # the layer's strokes so far, over its parts
+        self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching", cross=cross,
+                           crowding=self._crowding)
 
     def _cross_hatching(self):
-        self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching", cross=True)
+        self._hatching(cross=True)
 
     def _chains(self):
         if self._parts is None:

@@ -16,6 +16,7 @@ from ..model.curvature import curvature
 from ..model.marks import surface_marks
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
+from ..strokes import crowding as CR
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
 from ..strokes import stipples as SP
@@ -103,10 +104,18 @@ def mark_parts(cv, sampling, marks, st, region):
     return [m.take(c) for c in _chunks(len(m), CHUNK)]
 
 
-def hatching(cv, sampling, st, region, part, cross=False):
+def crowding(cv):
+    """What keeps a hatching layer's strokes from crowding together on the paper, over
+    its parts (strokes.crowding)."""
+    return CR.Crowding(cv.eye, CR.CROWD_GAP * cv.unit)
+
+
+def hatching(cv, sampling, st, region, part, cross=False, crowding=None):
     """Hatching along the style's flow field (or, with ``cross``, the cross-hatching
-    along its cross field in the darkest part of the shade) from a part's marks."""
+    along its cross field in the darkest part of the shade) from a part's marks, each
+    stroke stopping where it meets one of the layer's so far (``crowding``)."""
     kw = _common(cv, st, region)
+    kw["crowding"] = crowding
     rules = sm.StrokeRules(max_steps=st.hatch_steps, region=region, stop_on_curvature_sign=st.surface != "all")
     step = STEP * cv.unit
     field = st.cross_field if cross else st.hatch_field

@@ -153,14 +153,16 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
 
 def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.25, upper=0.6, weights=None,
              rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0, paths=None,
-             every_path=False):
+             every_path=False, crowding=None):
     """Hatching strokes from the marks (model.marks) that fall in shade, following a
     flow field, each heading the way its mark's reference direction says; with
     ``flock_size`` > 1 one mark in flock_size (by its key) spawns a flock, so the
     density stays alike. ``salt``: another layer's choices (cross-hatching); ``paths``:
     the smarticles' paths kept for these rules (smarticles.run_kept), and with
     ``every_path`` those of every mark are made in it, in shade or not (a model seen in
-    frame after frame: the light and the eye then only choose among them)."""
+    frame after frame: the light and the eye then only choose among them);
+    ``crowding``: a :class:`strokes.crowding.Crowding` that stops the strokes where they
+    meet others on the paper (the layer's strokes so far), or None."""
     flocks = np.ones(len(marks), bool)
     if flock_size > 1:
         flocks = keyed.uniform(marks.keys, salt, FLOCK) * flock_size < 1.0
@@ -183,7 +185,8 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
         run(marks.take(flocks))
     lit = lighting(marks.normals, light)
     res, keys = run(marks.take(flocks & chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))))
-    return shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
+    out = shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
+    return out if crowding is None else crowding.cut(out)
 
 
 def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, field="straight", axis=(0, 0, 1),
