@@ -113,7 +113,7 @@ def crowding(cv):
 def hatching(cv, sampling, st, region, part, cross=False, crowding=None):
     """Hatching along the style's flow field (or, with ``cross``, the cross-hatching
     along its cross field in the darkest part of the shade) from a part's marks, each
-    stroke stopping where it meets one of the layer's so far (``crowding``)."""
+    stroke thinned where it runs into a knot of the layer's strokes so far (``crowding``)."""
     kw = _common(cv, st, region)
     kw["crowding"] = crowding
     rules = sm.StrokeRules(max_steps=st.hatch_steps, region=region, stop_on_curvature_sign=st.surface != "all")

@@ -1,17 +1,17 @@
 """Hatching that does not crowd on the paper. Lines of curvature of one family run
-together at an umbilic (on a round lobe a whole fan of them meets at one point), and
-near a silhouette foreshortening packs a fan tighter still: drawn whole, the strokes
-of one hatching layer burst into a star there. A stroke stops where it comes closer on
-the paper than a gap to strokes before it in the order that head other ways than it
-and than each other, as an artist lifts the pen where a line would run into a knot of
-lines already drawn; the fan thins out towards its centre instead. A stroke crossing
-other strokes that all head one way goes on (a crossing, however many lines cross
-there), strokes that run alongside each other never stop each other, and the
-cross-hatching is a layer of its own.
+together (on a round lobe a whole fan of them meets at its pole), and near a silhouette
+foreshortening packs a fan tighter still: drawn at full strength, the strokes of one
+hatching layer burst into a star there. A stroke that comes, on the paper, within a gap
+of strokes before it in the order that head other ways than it and than each other (a
+knot) is drawn finer and lighter from there on, as an artist's pen lifts where a line
+runs into lines already drawn, and ends in the knot's heart: the fan thins out towards
+its centre. A stroke crossing strokes that all head one way is drawn whole (a crossing,
+however many lines cross there), strokes that run alongside each other never thin each
+other, and the cross-hatching is a layer of its own.
 
-The order is the strokes' marks' (model.keyed: the same from frame to frame), so a
-stroke only stops where the picture has a meeting of strokes, and the same one stops
-in the next frame."""
+The thinning is a continuous function of where the strokes lie on the paper, and the
+order is the strokes' marks' (model.keyed): as the view turns a stroke fades in and out
+of a knot instead of coming or going at once."""
 from dataclasses import replace
 
 import numpy as np
@@ -19,15 +19,16 @@ import numpy as np
 from ..blackboard.board import pairs_within
 from ..model import keyed
 
-ORDER = 6                # which of two strokes that meet stops (a salt, model.keyed)
-CROWD_GAP = 0.35         # stroke units on the paper: two strokes closer than this meet ...
+ORDER = 6                # which of two strokes that meet gives way (a salt, model.keyed)
+CROWD_GAP = 0.7         # stroke units on the paper: strokes closer than this meet ...
 CROWD_ANGLE = 15.0       # ... when their directions on the paper differ by more than this many degrees
+KNOT = 1.0               # how much spread of the strokes met (see _knots) thins a point to nothing
 
 
 class Crowding:
     """The strokes a layer drew so far, over its parts, as the eye sees them: a part's
-    strokes stop where they run into a knot of strokes before them (the parts before
-    come first, then the marks' order)."""
+    strokes thin out where they run into a knot of strokes before them (the parts
+    before come first, then the marks' order)."""
 
     def __init__(self, eye, gap):
         """``gap``: CROWD_GAP in model units (stroke units times the canvas's unit)."""
@@ -37,46 +38,59 @@ class Crowding:
         self.points, self.directions = np.zeros((0, 3)), np.zeros((0, 3))
         self.owners, self.count = np.zeros(0, np.int64), 0     # whose each point is, and how many owners so far
 
-    def cut(self, strokes):
-        """The strokes, each ending before the first point where it meets strokes that
-        come before it heading several ways (:func:`_knots`); a stroke left with fewer
-        than two points is dropped. The strokes' whole paths stop others (not what is
-        left of them). The ones drawn are kept here for the parts to come."""
+    def thinned(self, strokes):
+        """The strokes, each point's radius and opacity times the least that the knots
+        leave (:func:`_knots`: 1 outside any, 0 in a knot's heart) of it and of the points
+        before it on its stroke: a stroke ends where that comes to nothing, and one left
+        with fewer than two points is dropped. The strokes as
+        they came (their whole paths) thin the strokes after them, here and in the parts
+        to come."""
         if not strokes:
             return []
         sizes = np.array([len(s.points) for s in strokes])
+        at = np.cumsum(sizes) - sizes
         P = np.concatenate([np.asarray(s.points, float).reshape(-1, 3) for s in strokes])
         if self.reach is None:
             self.reach = float(np.median(np.linalg.norm(P - self.eye, axis=1)))
+        local = np.arange(len(P)) - np.repeat(at, sizes)
+        # every other point of each stroke, and its last, stand for it (a point between two
+        # of them takes their mean): a quarter of the pairs to weigh
+        probe = (local % 2 == 0) | (local == np.repeat(sizes, sizes) - 1)
         Q = self._on_paper(P)
-        T = np.concatenate([_directions(Q[a:a + n]) for a, n in zip(np.cumsum(sizes) - sizes, sizes)])
+        T = np.concatenate([_directions(Q[a:a + n]) for a, n in zip(at, sizes)])
         T = T - np.einsum("ij,ij->i", T, Q)[:, None] * Q / self.reach ** 2     # across the line of sight
         T /= np.maximum(np.linalg.norm(T, axis=1), 1e-300)[:, None]
-        across = np.cos(np.radians(CROWD_ANGLE))
         owner, place = _owners(strokes)
-        stroke = np.repeat(np.arange(len(strokes)), sizes)
-        s_of = owner[stroke]                                    # each point's owner
-        # the strokes before it that each point meets (heading another way), and their directions
+        own = np.repeat(owner, sizes)[probe]                               # each probe's owner
+        Q, T = Q[probe], T[probe]
         i0, j0 = pairs_within(Q, self.points, self.gap)
-        k = np.abs(np.einsum("ij,ij->i", T[i0], self.directions[j0])) < across
         i1, j1 = pairs_within(Q, Q, self.gap)
-        meet = (place[s_of[j1]] < place[s_of[i1]]) & (np.abs(np.einsum("ij,ij->i", T[i1], T[j1])) < across)
-        blocked = _knots(len(P), np.concatenate([i0[k], i1[meet]]),
-                         np.concatenate([self.owners[j0[k]], s_of[j1[meet]] + self.count]),
-                         np.concatenate([self.directions[j0[k]], T[j1[meet]]]), self._basis(Q))
-        out, keep = [], np.zeros(len(P), bool)
-        for k, (a, n) in enumerate(zip(np.cumsum(sizes) - sizes, sizes)):
-            stop = np.flatnonzero(blocked[a:a + n])
-            end = int(stop[0]) if len(stop) else int(n)
-            if end >= 2:
-                st = strokes[k]
-                out.append(st if end == n else replace(st, points=st.points[:end], radius=st.radius[:end],
-                                                       opacity=st.opacity[:end], cyclic=False))
-                keep[a:a + end] = True
-        self.points = np.vstack([self.points, Q[keep]])
-        self.directions = np.vstack([self.directions, T[keep]])
-        self.owners = np.concatenate([self.owners, s_of[keep] + self.count])
-        self.count += int(s_of.max()) + 1
+        later = place[own[j1]] < place[own[i1]]
+        i1, j1 = i1[later], j1[later]
+        # the strokes met: the earlier parts', then this part's before in the order
+        i = np.concatenate([i0, i1])
+        D = np.concatenate([self.directions[j0], T[j1]])
+        Qj = np.concatenate([self.points[j0], Q[j1]])
+        whose = np.concatenate([self.owners[j0], own[j1] + self.count])
+        near = np.clip(1.0 - np.sum((Q[i] - Qj) ** 2, axis=1) / self.gap ** 2, 0.0, 1.0)
+        weight = near * near * _another_way(np.einsum("ij,ij->i", T[i], D))
+        some = weight > 0
+        left = np.ones(len(P))
+        left[probe] = _knots(len(Q), self._basis(Q), i[some], whose[some], D[some], weight[some])
+        between = np.flatnonzero(~probe)
+        left[between] = 0.5 * (left[between - 1] + left[between + 1])
+        out = []
+        for s, a, n in zip(strokes, at, sizes):
+            f = np.minimum.accumulate(left[a:a + n])         # the pen does not come back
+            end = int(np.count_nonzero(f))                   # it ends where it fades to nothing
+            if end < 2:
+                continue
+            out.append(s if np.all(f == 1.0) else replace(s, points=s.points[:end], radius=s.radius[:end] * f[:end],
+                                                         opacity=s.opacity[:end] * f[:end], cyclic=False))
+        self.points = np.vstack([self.points, Q])
+        self.directions = np.vstack([self.directions, T])
+        self.owners = np.concatenate([self.owners, own + self.count])
+        self.count += int(owner.max()) + 1
         return out
 
     def _basis(self, Q):
@@ -97,7 +111,7 @@ class Crowding:
 
 def _owners(strokes):
     """Each stroke's owner (the strokes of one mark, as the visible runs of one path are,
-    share one: they never stop each other) and each owner's place in the order, by the
+    share one: they never thin each other) and each owner's place in the order, by the
     number its mark's key draws (highest first; a stroke without a mark is its own
     owner, its index its key)."""
     keys = np.array([s.mark if s.mark is not None else k for k, s in enumerate(strokes)], np.uint64)
@@ -113,23 +127,37 @@ def _owners(strokes):
     return owner, place
 
 
-def _knots(n, points, owners, directions, basis):
-    """Which of ``n`` points meet strokes heading more than one way: the strokes
-    (``owners``) each point (``points``) meets, once each, with their ``directions``
-    (3D, across the line of sight), spread over more than CROWD_ANGLE (the mean of
-    their doubled angles on the paper, ``basis``, is shorter than the cosine of the
-    angle: two lines that far apart, or more lines spread wider)."""
+def _another_way(cos):
+    """How much a stroke met heads another way than the point's own, from the cosine of
+    their angle: 0 within CROWD_ANGLE, 1 past twice that, smoothly between."""
+    a, b = np.sin(np.radians(CROWD_ANGLE)) ** 2, np.sin(np.radians(2 * CROWD_ANGLE)) ** 2
+    t = np.clip((1.0 - cos * cos - a) / (b - a), 0.0, 1.0)
+    return t * t * (3 - 2 * t)
+
+
+def _knots(n, basis, points, owners, directions, weights):
+    """What of each of ``n`` points is drawn, from the strokes it meets: each stroke
+    (``owners``) once per point (``points``), by its heaviest ``weights`` (how near it
+    comes, 1 on the point and 0 at the gap, and how much it heads another way) and
+    ``directions`` there. Their spread is the sum of the weights
+    less the length of the weighted sum of their doubled angles on the paper
+    (``basis``): 0 for strokes that all head one way however many, about 2 for two
+    strokes at right angles through the point; a point is drawn by 1 - spread / KNOT,
+    at least 0."""
     if len(points) == 0:
-        return np.zeros(n, bool)
-    _, first = np.unique(np.stack([points, owners]), axis=1, return_index=True)
-    points, directions = points[first], directions[first]
+        return np.ones(n)
+    heaviest = np.lexsort((-weights, owners, points))
+    points, owners, directions, weights = points[heaviest], owners[heaviest], directions[heaviest], weights[heaviest]
+    first = np.ones(len(points), bool)
+    first[1:] = (points[1:] != points[:-1]) | (owners[1:] != owners[:-1])
+    points, directions, weights = points[first], directions[first], weights[first]
     x, y = directions @ basis[0], directions @ basis[1]
     r2 = np.maximum(x * x + y * y, 1e-300)
-    c, s = np.zeros(n), np.zeros(n)
-    np.add.at(c, points, (x * x - y * y) / r2)               # cos and sin of the doubled angle
-    np.add.at(s, points, 2 * x * y / r2)
-    count = np.bincount(points, minlength=n)
-    return (count >= 2) & (np.hypot(c, s) < np.cos(np.radians(CROWD_ANGLE)) * count)
+    c, s, w = np.zeros(n), np.zeros(n), np.zeros(n)
+    np.add.at(c, points, weights * (x * x - y * y) / r2)             # the doubled angles, weighted
+    np.add.at(s, points, weights * 2 * x * y / r2)
+    np.add.at(w, points, weights)
+    return np.clip(1.0 - (w - np.hypot(c, s)) / KNOT, 0.0, 1.0)
 
 
 def _directions(Q):

@@ -161,8 +161,8 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
     the smarticles' paths kept for these rules (smarticles.run_kept), and with
     ``every_path`` those of every mark are made in it, in shade or not (a model seen in
     frame after frame: the light and the eye then only choose among them);
-    ``crowding``: a :class:`strokes.crowding.Crowding` that stops the strokes where they
-    meet others on the paper (the layer's strokes so far), or None."""
+    ``crowding``: a :class:`strokes.crowding.Crowding` that thins the strokes where they
+    run into knots of the layer's strokes so far on the paper, or None."""
     flocks = np.ones(len(marks), bool)
     if flock_size > 1:
         flocks = keyed.uniform(marks.keys, salt, FLOCK) * flock_size < 1.0
@@ -186,7 +186,7 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
     lit = lighting(marks.normals, light)
     res, keys = run(marks.take(flocks & chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))))
     out = shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
-    return out if crowding is None else crowding.cut(out)
+    return out if crowding is None else crowding.thinned(out)
 
 
 def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, field="straight", axis=(0, 0, 1),

@@ -1,6 +1,6 @@
 """Hatching that does not crowd on the paper (strokes.crowding): a fan of strokes meeting
 at one point thins out towards it; crossings (of however many strokes heading one way)
-and parallel strokes stay whole."""
+and parallel strokes stay whole; the thinning changes continuously with the view."""
 import numpy as np
 
 from blobtree_ink.model import keyed
@@ -16,7 +16,7 @@ def line(a, b, n, mark):
     return Stroke(P, np.full(n, 0.01), np.ones(n), mark=mark)
 
 
-def fan(n=10, r=1.0, points=41):
+def fan(n=10, r=1.0, points=81):
     """Strokes from a circle of radius ``r`` to its centre (on z = 0), each its own mark."""
     out = []
     for k in range(n):
@@ -25,8 +25,10 @@ def fan(n=10, r=1.0, points=41):
     return out
 
 
-def nearest_to_centre(strokes):
-    return np.array([np.linalg.norm(s.points[:, :2], axis=1).min() for s in strokes])
+def drawn(s):
+    """What of each point of a stroke is drawn (its radius against the untouched one's,
+    to a millionth)."""
+    return np.round(s.radius / 0.01, 6)
 
 
 def order(strokes):
@@ -37,23 +39,28 @@ def order(strokes):
 
 def test_a_fan_thins_out_towards_where_it_meets():
     strokes = fan()
-    cut = CR.Crowding(EYE, GAP).cut(strokes)
-    by_mark = {s.mark: s for s in cut}
-    # every stroke still starts where it did: a stroke is only shortened at its end
-    assert len(cut) == len(strokes)
-    for s in strokes:
-        assert np.allclose(by_mark[s.mark].points[0], s.points[0])
-    # the first two strokes in the order reach the centre (before them: nothing, then one
-    # stroke heading one way: a crossing), and a stroke meeting two of those heading ways
-    # apart does not; so do the strokes that go on through them
+    out = CR.Crowding(EYE, GAP).thinned(strokes)
+    assert len(out) == len(strokes)
+    by_mark = {s.mark: s for s in out}
     place = order(strokes)
-    reach = nearest_to_centre([by_mark[s.mark] for s in strokes])
-    assert np.all(reach[place < 2] < 1e-9)
-    reached = reach < 1e-9
-    assert 2 <= reached.sum() <= 4, reach
-    # the others stop short of it, where they come within the gap of strokes before them
-    spread = 2 * np.pi / len(strokes)                  # neighbours' angle: a gap apart at radius GAP / spread
-    assert np.all(reach[~reached] > 0.5 * GAP) and np.all(reach[~reached] < 2 * GAP / np.sin(spread))
+    for s, p in zip(strokes, place):
+        t = by_mark[s.mark]
+        f = drawn(t)
+        assert np.array_equal(t.points, s.points[:len(t.points)])   # shortened at most, not moved
+        assert np.allclose(t.opacity, f)
+        assert np.all(np.diff(f) <= 1e-12)                           # once thinned, never thicker again
+        assert f[0] == 1.0                                           # whole far from the centre
+        if p < 2:                                                    # nothing before it, or one stroke: whole
+            assert np.all(f == 1.0)
+    # the others thin out towards the centre (all but one end before it: the first two
+    # strokes in the order may be one line, the stroke after them then meets one way only)
+    later = [by_mark[s.mark] for s, p in zip(strokes, place) if p >= 2]
+    ended = [t for t in later if len(t.points) < 81]
+    assert len(ended) >= len(later) - 2
+    for t in ended:
+        r = np.linalg.norm(t.points[:, :2], axis=1)
+        assert np.all(drawn(t)[r > 4 * GAP] == 1.0) and np.all(drawn(t) > 0)
+        assert 0 < r.min() < GAP and drawn(t)[-1] < 0.5
 
 
 def test_crossings_and_parallel_strokes_stay_whole():
@@ -62,28 +69,28 @@ def test_crossings_and_parallel_strokes_stay_whole():
     along = [line([-1, y, 0], [1, y, 0], 81, mark=k) for k, y in enumerate(np.arange(-10, 11) * 0.2 * GAP)]
     across = [line([x, -1, 0], [x, 1, 0], 81, mark=100 + k) for k, x in enumerate(np.arange(-5, 6) * 0.4 * GAP)]
     strokes = along + across
-    cut = CR.Crowding(EYE, GAP).cut(strokes)
-    assert [len(s.points) for s in cut] == [81] * len(strokes)
-    # a third way through the grid's crossings: the strokes after others there stop
+    out = CR.Crowding(EYE, GAP).thinned(strokes)
+    assert [s.mark for s in out] == [s.mark for s in strokes]
+    assert all(np.all(drawn(s) == 1.0) for s in out)
+    # a third way through the grid's crossings: the strokes after others there thin out
     diagonal = [line([-1 + d, -1 - d, 0], [1 + d, 1 - d, 0], 81, mark=200 + k)
                 for k, d in enumerate(np.arange(-3, 4) * 0.3 * GAP)]
-    cut = CR.Crowding(EYE, GAP).cut(strokes + diagonal)
-    assert sum(len(s.points) for s in cut) < 81 * len(strokes + diagonal)
-    assert len(cut) >= len(strokes)                    # shortened, not all gone
+    out = CR.Crowding(EYE, GAP).thinned(strokes + diagonal)
+    assert sum(drawn(s).min() < 0.5 for s in out) >= 3
 
 
-def test_the_runs_of_one_mark_never_stop_each_other():
+def test_the_runs_of_one_mark_never_thin_each_other():
     # one path's visible runs share its mark: a knot of its own runs is no meeting
     runs = [line([0, 0, 0], [np.cos(a), np.sin(a), 0], 21, mark=7) for a in np.linspace(0, np.pi, 6)]
-    cut = CR.Crowding(EYE, GAP).cut(runs)
-    assert [len(s.points) for s in cut] == [21] * len(runs)
+    out = CR.Crowding(EYE, GAP).thinned(runs)
+    assert all(np.all(drawn(s) == 1.0) for s in out) and len(out) == len(runs)
 
 
-def test_parts_after_the_first_stop_at_its_strokes():
+def test_parts_after_the_first_give_way_to_its_strokes():
     """A layer drawn in parts: the earlier parts' strokes come first, whatever the
     marks' order says. Three lines through one point, 45 degrees apart: drawn together,
-    the last in the order stops short of the point; drawn in two parts, the diagonal of
-    the second does, though it comes first in the order."""
+    the last in the order thins out before the point; drawn in two parts, the diagonal
+    of the second does, though it comes first in the order."""
     marks = np.arange(1, 200, dtype=np.uint64)
     u = keyed.uniform(marks, CR.ORDER)
     first, second, third = (int(m) for m in marks[np.argsort(-u)][:3])
@@ -92,25 +99,38 @@ def test_parts_after_the_first_stop_at_its_strokes():
         d = np.array([np.cos(np.radians(angle)), np.sin(np.radians(angle)), 0.0])
         return line(-d, d, 81, mark)
     diagonal, h, v = through(45, first), through(0, second), through(90, third)
-    together = CR.Crowding(EYE, GAP).cut([h, v, diagonal])
+    together = CR.Crowding(EYE, GAP).thinned([h, v, diagonal])
     assert [s.mark for s in together] == [second, third, first]
-    assert len(together[0].points) == len(together[2].points) == 81
-    assert 0.5 * GAP < nearest_to_centre([together[1]])[0] < 2 * GAP
+    assert np.all(drawn(together[0]) == 1.0) and np.all(drawn(together[2]) == 1.0)
+    assert drawn(together[1]).min() < 0.5
     crowd = CR.Crowding(EYE, GAP)
-    assert [len(s.points) for s in crowd.cut([h, v])] == [81, 81]
-    later = crowd.cut([diagonal])
-    assert len(later) == 1 and later[0].mark == first
-    assert 0.5 * GAP < nearest_to_centre(later)[0] < 2 * GAP
+    assert all(np.all(drawn(s) == 1.0) for s in crowd.thinned([h, v]))
+    later = crowd.thinned([diagonal])
+    assert len(later) == 1 and later[0].mark == first and drawn(later[0]).min() < 0.5
 
 
 def test_the_paper_is_what_the_eye_sees():
     """The distance is the one on the paper: a fan twice as far from the eye and twice
-    as large, with the gap given at its distance, is cut alike."""
-    near = fan()
-    far = []
-    for s in fan():                                    # the same fan twice as far from the eye, twice as large
-        P = EYE + 2.0 * (s.points - EYE)
-        far.append(Stroke(P, s.radius, s.opacity, mark=s.mark))
-    a = CR.Crowding(EYE, GAP).cut(near)
-    b = CR.Crowding(EYE, 2.0 * GAP).cut(far)         # the gap at the far fan's distance
-    assert [len(s.points) for s in a] == [len(s.points) for s in b]
+    as large, with the gap given at its distance, thins alike."""
+    far = [Stroke(EYE + 2.0 * (s.points - EYE), s.radius, s.opacity, mark=s.mark) for s in fan()]
+    a = CR.Crowding(EYE, GAP).thinned(fan())
+    b = CR.Crowding(EYE, 2.0 * GAP).thinned(far)
+    assert [s.mark for s in a] == [s.mark for s in b]
+    assert all(np.allclose(drawn(s), drawn(t)) for s, t in zip(a, b))
+
+
+def test_a_turning_view_thins_continuously():
+    """The eye turning a little about the fan changes how much of each point is drawn a
+    little: strokes fade in and out of a knot, they do not jump."""
+    strokes = fan()
+    a = CR.Crowding(EYE, GAP).thinned(strokes)
+    turn = np.radians(0.5)
+    eye = np.array([0.0, 10.0 * np.sin(turn), 10.0 * np.cos(turn)])
+    b = CR.Crowding(eye, GAP).thinned(strokes)
+    assert [s.mark for s in a] == [s.mark for s in b]
+
+    def along(s, n):
+        return np.concatenate([drawn(s), np.zeros(n - len(s.points))])       # ended: nothing drawn
+    change = [np.abs(along(s, 81) - along(t, 81)) for s, t in zip(a, b)]
+    assert max(c.max() for c in change) < 0.25
+    assert sum(c.sum() for c in change) > 0                                   # the view does count
