@@ -57,7 +57,7 @@ class Crowding:
         # of them takes their mean): a quarter of the pairs to weigh
         probe = (local % 2 == 0) | (local == np.repeat(sizes, sizes) - 1)
         Q = self._on_paper(P)
-        T = np.concatenate([_directions(Q[a:a + n]) for a, n in zip(at, sizes)])
+        T = _directions(Q, at, sizes)
         T = T - np.einsum("ij,ij->i", T, Q)[:, None] * Q / self.reach ** 2     # across the line of sight
         T /= np.maximum(np.linalg.norm(T, axis=1), 1e-300)[:, None]
         owner, place = _owners(strokes)
@@ -112,19 +112,13 @@ class Crowding:
 def _owners(strokes):
     """Each stroke's owner (the strokes of one mark, as the visible runs of one path are,
     share one: they never thin each other) and each owner's place in the order, by the
-    number its mark's key draws (highest first; a stroke without a mark is its own
-    owner, its index its key)."""
-    keys = np.array([s.mark if s.mark is not None else k for k, s in enumerate(strokes)], np.uint64)
-    own = np.array([s.mark is not None for s in strokes])
-    tagged = np.where(own, keys, np.uint64(0))
-    _, owner = np.unique(np.stack([tagged, np.where(own, 0, np.arange(len(strokes)) + 1).astype(np.uint64)]),
-                         axis=1, return_inverse=True)
-    owner = owner.reshape(-1)
-    key_of = np.zeros(owner.max() + 1, np.uint64)
-    key_of[owner] = keys
-    place = np.empty(len(key_of), np.int64)
-    place[np.lexsort((np.arange(len(key_of)), -keyed.uniform(key_of, ORDER)))] = np.arange(len(key_of))
-    return owner, place
+    number its mark's key draws (highest first)."""
+    if any(s.mark is None for s in strokes):
+        raise ValueError("hatching strokes thin each other by their marks: a stroke has none")
+    keys, owner = np.unique(np.array([s.mark for s in strokes], np.uint64), return_inverse=True)
+    place = np.empty(len(keys), np.int64)
+    place[np.lexsort((np.arange(len(keys)), -keyed.uniform(keys, ORDER)))] = np.arange(len(keys))
+    return owner.reshape(-1), place
 
 
 def _another_way(cos):
@@ -160,6 +154,13 @@ def _knots(n, basis, points, owners, directions, weights):
     return np.clip(1.0 - (w - np.hypot(c, s)) / KNOT, 0.0, 1.0)
 
 
-def _directions(Q):
-    """A polyline's direction at each of its points (zero for a single point)."""
-    return np.gradient(Q, axis=0) if len(Q) > 1 else np.zeros((len(Q), 3))
+def _directions(Q, at, sizes):
+    """Polylines' directions at their points (the points one polyline after the other,
+    the first of each at ``at``, ``sizes`` of them): central differences inside,
+    one-sided at the ends, zero for a single point."""
+    nxt = np.minimum(np.arange(len(Q)) + 1, len(Q) - 1)
+    prv = np.maximum(np.arange(len(Q)) - 1, 0)
+    last = at + sizes - 1
+    nxt[last] = last
+    prv[at] = at
+    return Q[nxt] - Q[prv]

@@ -2,6 +2,7 @@
 at one point thins out towards it; crossings (of however many strokes heading one way)
 and parallel strokes stay whole; the thinning changes continuously with the view."""
 import numpy as np
+import pytest
 
 from blobtree_ink.model import keyed
 from blobtree_ink.strokes import crowding as CR
@@ -84,6 +85,9 @@ def test_the_runs_of_one_mark_never_thin_each_other():
     runs = [line([0, 0, 0], [np.cos(a), np.sin(a), 0], 21, mark=7) for a in np.linspace(0, np.pi, 6)]
     out = CR.Crowding(EYE, GAP).thinned(runs)
     assert all(np.all(drawn(s) == 1.0) for s in out) and len(out) == len(runs)
+    # strokes are told apart by their marks: one without is an error, not a guess
+    with pytest.raises(ValueError, match="has none"):
+        CR.Crowding(EYE, GAP).thinned(runs + [line([0, 0, 0], [0, 1, 0], 21, mark=None)])
 
 
 def test_parts_after_the_first_give_way_to_its_strokes():
