@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 
 from ..strokes.data import LAYERS, STROKE_LAYERS
-from . import compat
+from . import compat, views
 
 INK = (0.02, 0.02, 0.03, 1.0)
 LINE_MATERIAL = "BlobTree Ink Line"
@@ -89,13 +89,14 @@ def _frame(layer, number):
 def write(obj, result, frame=1):
     """Write a pipeline Result on ``frame``: its owned layers replaced (the stroke layers'
     strokes in its region only, when it has one), its appended ones added to, the others
-    untouched."""
+    untouched; the layers written remember the eye they were drawn for (grease_pencil.views)."""
     for name in result.owned:
         region = result.region if name in STROKE_LAYERS else None
         write_layer(obj, name, result.strokes.layers.get(name, []), frame,
                     keep=None if region is None else lambda P, r=region: ~r.contains(P))
     for name in result.appended:
         write_layer(obj, name, result.strokes.layers.get(name, []), frame, keep=lambda P: np.ones(len(P), bool))
+    views.record(obj, result.owned + result.appended, frame, result.eye, result.centre)
     return obj
 
 

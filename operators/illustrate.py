@@ -21,6 +21,7 @@ same undo step. With the tree's Paper on, the scene is put on white paper.
 """
 import time
 import traceback
+from dataclasses import replace
 
 import bpy
 
@@ -81,7 +82,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     # --- setting up ------------------------------------------------------------------
     def _requests(self, context, tree, inverse):
         """The pipeline requests of this run (a preset: its strokes, with the outlines
-        where the outline layers have none yet, or the outlines alone)."""
+        where the outline layers have none yet, or the outlines alone; :meth:`_start`
+        adds the outlines where they were drawn for another viewpoint)."""
         kind = self.request
         if self.preset != NO_PRESET:
             kind = "OUTLINES" if self.preset == "OUTLINES" else "PLACE_STROKES"
@@ -105,18 +107,25 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         inverse = self.placement.inverted_safe()
         self.from_camera = ink.use_camera
         self.notes = []
+        centre, radius = PL.bounds(Evaluator(model))
         if ink.use_camera:
             eye = jobs.camera_eye(context.scene)
             off = jobs.off_camera(context.scene, tree)
             self.notes += [off] if off else []
         else:
-            eye = jobs.viewport_eye(context, PL.bounds(Evaluator(model))[1])
+            eye = jobs.viewport_eye(context, radius)
             if eye is None:
                 raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
                                   "from the 3D viewport, or switch From Camera on")
-        requests = self._requests(context, tree, inverse)
-        job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink), requests, ink.seed, eye=eye,
-                       inverse=inverse)
+        job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink),
+                       self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse)
+        obj, frame = bpy.data.objects.get(ink_name(tree)), context.scene.frame_current
+        outlines = set(LAYER_OF_KIND.values())
+        if self.preset not in (NO_PRESET, "OUTLINES") and not job.wants_outline_layers() \
+                and outlines & set(jobs.drawn_elsewhere(obj, job, frame, centre, radius)):
+            job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
+        elsewhere = jobs.elsewhere_note(jobs.drawn_elsewhere(obj, job, frame, centre, radius))
+        self.notes += [elsewhere] if elsewhere else []
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         jobs.on_paper(context, tree)
@@ -281,7 +290,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     def _report_done(self, state, warnings=(), hint=""):
         """The run's summary, then its warnings: the status bar shows the last report, so
         a warning is not hidden behind the summary."""
-        last_run["state"] = state
+        last_run.update(state=state, warnings=list(warnings))
         traced = f", the outlines after {last_run['iterations']} iterations" if last_run["iterations"] else ""
         n = last_run.get("strokes", 0)
         self.report({"INFO"}, f"Illustration {state}: {n} stroke{'' if n == 1 else 's'}{traced}{hint}")

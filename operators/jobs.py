@@ -1,7 +1,7 @@
 """Pipeline jobs from what Blender shows (the Blender side of every path that
 illustrates): the eye from the scene camera or the viewport, the light from the scene's
 lights, a request's region from the selection or the 3D cursor, the style and settings
-from the tree. The operators and the command line build their jobs here, so the same
+from the tree; which layers of the ink a job leaves were drawn for another viewpoint. The operators and the command line build their jobs here, so the same
 scene gives the same job whichever path draws."""
 import numpy as np
 from mathutils import Matrix, Vector
@@ -10,6 +10,9 @@ from .. import pipeline as PL
 from ..agents import Region, Settings
 from ..blackboard.board import FEATURE_KINDS
 from ..blackboard.view import View
+from ..grease_pencil import views
+from ..pipeline.job import SINGLE_LAYER
+from ..strokes.data import LAYER_OF_KIND, LAYERS, STROKE_LAYERS
 
 
 def _world(obj, depsgraph):
@@ -168,3 +171,25 @@ def tree_settings(ink):
     """The sampling settings of a tree's illustration settings."""
     return Settings(resolution=ink.grid_resolution, agents=ink.agents, lod=ink.lod, seed=ink.seed,
                     kinds=tuple(k for k in FEATURE_KINDS if getattr(ink, f"line_{k}")))
+
+
+def drawn_elsewhere(obj, job, frame, centre, radius):
+    """The layers of the ink object ``obj`` on ``frame`` that ``job`` leaves as they
+    are but that were drawn for an eye that does not see the model as the job's does
+    (the model's ``centre`` and ``radius`` place its three-quarter eye, without a view).
+    The single strokes are the artist's own, from wherever they were drawn."""
+    eye = PL.view_eye(job.view, centre, radius)
+    mine = set(job.owned_layers()) | set(job.appended_layers()) | {SINGLE_LAYER}
+    return views.seen_from_elsewhere(obj, [n for n in LAYERS if n not in mine], frame, eye, centre)
+
+
+def elsewhere_note(layers):
+    """What a run says of the layers it left that were drawn for another viewpoint, and
+    which request draws them for this one (None when there are none)."""
+    say = []
+    for names, request in (([n for n in layers if n in LAYER_OF_KIND.values()], "Trace Feature Outlines"),
+                           ([n for n in layers if n in STROKE_LAYERS], "Place Strokes")):
+        if names:
+            them = "it" if len(names) == 1 else "them"
+            say.append(f"{', '.join(names)} drawn for another viewpoint: {request} draws {them} for this one")
+    return "; ".join(say) or None

@@ -2,7 +2,8 @@
 radius, a three-quarter eye that frames it; and the one rule for the line width and
 the strokes' unit of length, from the model's size: the square root of its surface's
 area (model.marks.surface_area), which moving or turning the model or a part of it does
-not change, so lines do not swell and strokes do not swim from frame to frame."""
+not change, so lines do not swell and strokes do not swim from frame to frame; and
+whether two eyes see the model alike."""
 import math
 
 import numpy as np
@@ -18,6 +19,8 @@ STROKE_UNIT = 0.64          # the strokes' unit of length, as a fraction of the 
 UNIT_GRID = 20              # this grid resolution (about a cell of the default grid; the grid the agents
                             # use changes the outlines' detail, never the strokes' density)
 LENS, SENSOR, MARGIN = 50.0, 36.0, 1.15     # the framing camera: focal length and sensor width (mm), margin
+VIEW_ANGLE = 0.5            # degrees: eyes this close in direction from the model's centre ...
+VIEW_DISTANCE = 0.02        # ... and in distance (a share of it) see the model alike
 
 
 class NothingToDraw(ValueError):
@@ -59,6 +62,23 @@ def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, s
     half_fov = math.atan(sensor / (2 * lens))
     dist = margin * radius / math.sin(half_fov)
     return np.asarray(centre, float) + dist * d
+
+
+def view_eye(view, centre, radius):
+    """The eye a job's view gives (its own; without one, the three-quarter view)."""
+    return np.asarray(view.eye if view is not None else three_quarter_eye(centre, radius), float)
+
+
+def same_view(eye, other, centre):
+    """Whether two eyes see the model (its ``centre``) alike: from directions within
+    VIEW_ANGLE degrees and distances within VIEW_DISTANCE of each other (a drawing for
+    one then holds for the other)."""
+    a, b = np.asarray(eye, float) - centre, np.asarray(other, float) - centre
+    la, lb = np.linalg.norm(a), np.linalg.norm(b)
+    if not (la > 0 and lb > 0):
+        return bool(la == lb)
+    angle = math.degrees(math.acos(float(np.clip(np.dot(a, b) / (la * lb), -1.0, 1.0))))
+    return angle <= VIEW_ANGLE and abs(la / lb - 1.0) <= VIEW_DISTANCE
 
 
 def default_light(centre, eye):

@@ -31,7 +31,7 @@ from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from ..strokes.stipples import Spacing
 from . import layers as LY
 from .continuation import Continuation
-from .framing import bounds, default_light, line_radius, stroke_unit, three_quarter_eye
+from .framing import bounds, default_light, line_radius, stroke_unit, view_eye
 from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
 
 # each stage's share of a run, for the progress figure (sampling: the share of the
@@ -70,6 +70,8 @@ class Result:
     stopped: bool = False
     region: object = None      # where the owned stroke layers were drawn (None: the whole model): only
                                # their strokes there are replaced
+    eye: np.ndarray = None     # the eye it was drawn for and the model's centre (model coordinates),
+    centre: np.ndarray = None  # once known (framing.same_view)
 
 
 class Illustration:
@@ -79,7 +81,8 @@ class Illustration:
         self.job = job.checked()
         self.previous, self.remember = previous, remember
         self.ev = None                 # the compiled model, the eye, the light and the requests'
-        self.eye = self.light = None   # regions: made at the initialisation (on a runner's worker)
+        self.eye = self.light = None   # regions, and the model's centre: made at the initialisation
+        self.centre = None             # (on a runner's worker)
         self.requests = self.job.requests
         self.style = self.job.style
         self.session = None
@@ -188,7 +191,8 @@ class Illustration:
         else:
             self.ev = Evaluator(j.model)
         centre, radius = bounds(self.ev)
-        self.eye = np.asarray(j.view.eye if j.view is not None else three_quarter_eye(centre, radius), float)
+        self.centre = centre
+        self.eye = view_eye(j.view, centre, radius)
         if j.light is not None:
             light = np.asarray(j.light, float)
         elif j.light_at is not None and np.linalg.norm(np.asarray(j.light_at, float) - centre) > 0:
@@ -375,7 +379,8 @@ class Illustration:
         for name, strokes in self.layers.items():
             out.layers[name] = list(strokes)
         return Result(out, owned, j.appended_layers(), self.progress(), list(self.warnings),
-                      done=self.finished and not self.stopping, stopped=self.stopping, region=self._region())
+                      done=self.finished and not self.stopping, stopped=self.stopping, region=self._region(),
+                      eye=self.eye, centre=self.centre)
 
     def _owned_now(self):
         """The layers the result replaces now: those of the stages begun (a stopped run

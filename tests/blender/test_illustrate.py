@@ -189,3 +189,44 @@ def test_a_running_illustration_stops_only_for_a_change_of_the_model(ext, exampl
     for link in list(tree.links):
         tree.links.remove(link)
     assert not comp.same_model(tree, doc)                         # a broken tree is a change
+
+
+def test_layers_drawn_for_another_viewpoint_are_named_and_a_look_redraws_its_outlines(ext, example):
+    """Each layer remembers the eye it was drawn for. A request that leaves layers drawn
+    for another viewpoint says which and what redraws them; a look draws its outlines
+    again when they were drawn for another viewpoint (one drawing, one viewpoint)."""
+    from aimed_camera import aimed_camera
+    run = __import__(f"{ext.__name__}.operators.illustrate", fromlist=["x"]).last_run
+    views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree = bpy.data.node_groups["pear"]
+    tree.ink.grid_resolution = 12
+    cam = aimed_camera((4.0, -6.0, 2.0), (0, 0, 0))
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
+    obj = bpy.data.objects["pear Ink"]
+    first = list(obj[views.KEY]["Silhouette@1"])
+    assert np.allclose(first[:3], cam.location, atol=1e-4)                    # the eye, in the model's frame
+    silhouette = [tuple(p.position) for p in ink("pear")["Silhouette"][0].points]
+    # the same camera: strokes fit the outlines, nothing to say
+    tree.ink.hatching = True
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    assert run["warnings"] == []
+    # a camera a few degrees round: a request for the strokes names the outline layers
+    aimed_camera((4.6, -5.6, 2.0), (0, 0, 0))
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    assert run["warnings"] == ["Silhouette, Crease drawn for another viewpoint: Trace Feature Outlines draws them "
+                               "for this one"]
+    assert [tuple(p.position) for p in ink("pear")["Silhouette"][0].points] == silhouette     # left as drawn
+    # tracing the outlines again makes the drawing one viewpoint's
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
+    assert run["warnings"] == []
+    # from a third viewpoint, a request for the outlines names the strokes
+    aimed_camera((-4.0, -6.0, 3.0), (0, 0, 0))
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
+    assert run["warnings"] == ["Hatching drawn for another viewpoint: Place Strokes draws it for this one"]
+    # a look from a fourth draws its outlines too: nothing is left from elsewhere
+    aimed_camera((-4.0, -6.2, 3.4), (0, 0, 0))
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
+    assert run["warnings"] == []
+    assert np.allclose(list(obj[views.KEY]["Silhouette@1"])[:3], (-4.0, -6.2, 3.4), atol=1e-4)
+    assert np.allclose(list(obj[views.KEY]["Hatching@1"])[:3], (-4.0, -6.2, 3.4), atol=1e-4)

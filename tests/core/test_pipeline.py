@@ -193,3 +193,20 @@ def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monke
     # and apart on the surface, at the radii the shade gives them (at least the smallest's)
     full = LY.STIPPLE_RADIUS * ill.canvas.radius(ill.style) * 0.5      # the smallest the shade makes
     assert (np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) >= L.STIPPLE_GAP * 2 * full).all()
+
+
+def test_two_eyes_see_the_model_alike_when_close_in_direction_and_distance():
+    """framing.same_view: eyes within VIEW_ANGLE degrees of direction from the model's
+    centre and VIEW_DISTANCE of distance see it alike; the centre counts, not the origin."""
+    from blobtree_ink.pipeline import framing as FR
+    centre = np.array([1.0, 2.0, 3.0])
+
+    def eye(degrees, distance=10.0):
+        a = np.radians(degrees)
+        return centre + distance * np.array([np.cos(a), np.sin(a), 0.0])
+    assert FR.same_view(eye(0), eye(0.9 * FR.VIEW_ANGLE), centre)
+    assert not FR.same_view(eye(0), eye(1.1 * FR.VIEW_ANGLE), centre)
+    assert FR.same_view(eye(0), eye(0, 10.0 * (1 + 0.9 * FR.VIEW_DISTANCE)), centre)
+    assert not FR.same_view(eye(0), eye(0, 10.0 * (1 + 1.1 * FR.VIEW_DISTANCE)), centre)
+    assert not FR.same_view(eye(0), eye(180), centre)
+    assert FR.same_view(centre, centre, centre) and not FR.same_view(centre, eye(0), centre)
