@@ -20,7 +20,7 @@ from ..blackboard.board import pairs_within
 from ..model import keyed
 
 ORDER = 6                # which of two strokes that meet gives way (a salt, model.keyed)
-CROWD_GAP = 0.7         # stroke units on the paper: strokes closer than this meet ...
+CROWD_GAP = 0.5         # stroke units on the paper: strokes closer than this meet ...
 CROWD_ANGLE = 15.0       # ... when their directions on the paper differ by more than this many degrees
 KNOT = 1.0               # how much spread of the strokes met (see _knots) thins a point to nothing
 
@@ -67,16 +67,17 @@ class Crowding:
         i1, j1 = pairs_within(Q, Q, self.gap)
         later = place[own[j1]] < place[own[i1]]
         i1, j1 = i1[later], j1[later]
-        # the strokes met: the earlier parts', then this part's before in the order
+        # the strokes met, heading another way: the earlier parts', then this part's before in the order
         i = np.concatenate([i0, i1])
         D = np.concatenate([self.directions[j0], T[j1]])
-        Qj = np.concatenate([self.points[j0], Q[j1]])
-        whose = np.concatenate([self.owners[j0], own[j1] + self.count])
+        way = _another_way(np.einsum("ij,ij->i", T[i], D))
+        some = way > 0
+        i, D, way = i[some], D[some], way[some]
+        Qj = np.concatenate([self.points[j0], Q[j1]])[some]
+        whose = np.concatenate([self.owners[j0], own[j1] + self.count])[some]
         near = np.clip(1.0 - np.sum((Q[i] - Qj) ** 2, axis=1) / self.gap ** 2, 0.0, 1.0)
-        weight = near * near * _another_way(np.einsum("ij,ij->i", T[i], D))
-        some = weight > 0
         left = np.ones(len(P))
-        left[probe] = _knots(len(Q), self._basis(Q), i[some], whose[some], D[some], weight[some])
+        left[probe] = _knots(len(Q), self._basis(Q), i, whose, D, near * near * way)
         between = np.flatnonzero(~probe)
         left[between] = 0.5 * (left[between - 1] + left[between + 1])
         out = []
