@@ -63,17 +63,22 @@ def unpaper(scene, was):
 
 def paper_viewports(screen, on):
     """The 3D viewports of a screen on paper in Solid shading (their background the
-    world's: white on paper, so the ink reads), or back on the theme's."""
+    world's: white on paper, so the ink reads, and no floor grid or axes drawn over
+    it), or back on the theme's, with the floor and its axes."""
     if screen is None:
         return
     for area in screen.areas:
         if area.type != "VIEW_3D":
             continue
-        shading = area.spaces.active.shading
+        space = area.spaces.active
         if on:
-            shading.background_type = "WORLD"
-        elif shading.background_type == "WORLD":
-            shading.background_type = "THEME"
+            space.shading.background_type = "WORLD"
+        elif space.shading.background_type == "WORLD":
+            space.shading.background_type = "THEME"
+        else:
+            continue                       # not on paper: the artist's own floor stays as it is
+        overlay = space.overlay
+        overlay.show_floor = overlay.show_axis_x = overlay.show_axis_y = not on
 
 
 def depth_pass(scene, on):

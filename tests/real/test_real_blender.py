@@ -231,6 +231,7 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
     (u0, u1), (v0, v1) = facts["model_in_camera"]                                   # the camera frames it
     assert 0 < u0 < u1 < 1 and 0 < v0 < v1 < 1 and v1 - v0 > 0.4, facts["model_in_camera"]
     assert facts["view_perspective"] == "CAMERA" and facts["ink_parent"] == facts["preview_name"]
+    assert facts["paper_viewport"] == ["WORLD", False, False, False]          # white paper, no floor over it
     # 3.-5. each request writes its own layers; the others stay, point for point
     runs = facts["runs"]
     assert [runs[k]["state"] for k in ("outlines", "stippled", "hatched_esc", "hatched_full")] == \

@@ -251,8 +251,10 @@ def run():
     runs["outlines"] = yield from run_look(ill, win, vregion, "trace feature outlines", 240)
     ink = bpy.data.objects.get(f"{tree.name} Ink")
     yield from redrawn(view3d)
+    overlay = view3d.spaces.active.overlay
     record(ink_name=ink.name if ink else None, ink_parent=ink.parent.name if ink and ink.parent else None,
-           counts_outlines=counts(ink))
+           counts_outlines=counts(ink), paper_viewport=[view3d.spaces.active.shading.background_type,
+                                                        overlay.show_floor, overlay.show_axis_x, overlay.show_axis_y])
     yield {"action": "screenshot", "name": "first_hour_3_outlines.png"}
     outlines3 = {k: drawing_of(ink, k) for k in ("Silhouette", "Crease", "Curvature")}
     on_screen = {"silhouette": in_viewport(win, vregion, rv3d, ink, outlines3["Silhouette"])}
