@@ -37,13 +37,14 @@ _followed = {}                   # a node editor's address -> the active object 
 
 def shown_in_editor(space, obj):
     """The tree a BlobTree node editor (``space``, not pinned) shows while ``obj`` is the
-    active object: that object's tree when the artist has just made it active (or the
-    editor shows none), else the tree the editor shows (one the artist browsed to)."""
+    active object: that object's tree when the artist has made another object active
+    since the editor last looked (or the editor shows none), else the tree the editor
+    shows (one the artist browsed to, or the one a file was saved with)."""
     key = space.as_pointer() if space is not None else 0
     name = obj.name_full if obj is not None else ""
     shown = getattr(space, "node_tree", None)
     shown = shown if shown is not None and shown.bl_idname == TREE else None
-    moved = _followed.get(key) != name
+    moved = key in _followed and _followed[key] != name
     _followed[key] = name
     owned = tree_of_object(obj)
     return owned if owned is not None and (moved or shown is None) else shown

@@ -8,38 +8,53 @@ import numpy as np
 
 from ..pipeline.framing import same_view
 
-KEY = "blobtree_ink_views"      # the ID property: "layer@frame" -> eye and model centre (model coordinates)
+KEY = "blobtree_ink_views"      # the ID property: "layer@frame" -> the eye (model coordinates), or MIXED
+MIXED = "mixed"                 # a drawing with strokes drawn for several eyes (a request's region redrawn)
 
 
 def _key(layer, frame):
     return f"{layer}@{int(frame)}"
 
 
-def record(obj, layers, frame, eye, centre):
+def record(obj, layers, frame, eye, centre, region=None):
     """Remember that ``layers`` of the ink object were drawn on ``frame`` for ``eye``
-    (the model's ``centre`` with it; both in the model's coordinates)."""
+    (the model's ``centre`` tells two eyes apart; both in the model's coordinates). A
+    drawing redrawn only in a ``region`` for another eye than its own holds both: it
+    is mixed from then on."""
     if eye is None or centre is None:
         return
     views = dict(obj.get(KEY, {}))
     for layer in layers:
-        views[_key(layer, frame)] = [float(v) for v in (*eye, *centre)]
+        key = _key(layer, frame)
+        old = views.get(key)
+        if region is not None and old is not None and not _fits(old, eye, centre):
+            views[key] = MIXED
+        else:
+            views[key] = [float(v) for v in eye]
     obj[KEY] = views
 
 
 def seen_from_elsewhere(obj, layers, frame, eye, centre):
-    """Of ``layers``, those with strokes on ``frame`` that were drawn for an eye that
-    does not see the model like ``eye`` (a layer drawn before its viewpoint was kept
-    counts as fitting)."""
+    """Of ``layers``, those whose drawing shown on ``frame`` (the key at or before it)
+    has strokes drawn for an eye that does not see the model (its ``centre``) like
+    ``eye``; a drawing with no viewpoint kept counts as fitting."""
     if obj is None or obj.type != "GREASEPENCIL":
         return []
     views = obj.get(KEY, {})
     out = []
     for name in layers:
         layer = obj.data.layers.get(name)
-        drawn = [f for f in (layer.frames if layer is not None else []) if f.frame_number == frame]
-        if not drawn or not len(drawn[0].drawing.strokes):
+        keys = [f for f in (layer.frames if layer is not None else []) if f.frame_number <= frame]
+        if not keys:
             continue
-        v = views.get(_key(name, frame))
-        if v is not None and not same_view(np.asarray(v[:3]), eye, np.asarray(v[3:])):
+        shown = max(keys, key=lambda f: f.frame_number)
+        v = views.get(_key(name, shown.frame_number))
+        if len(shown.drawing.strokes) and v is not None and not _fits(v, eye, centre):
             out.append(name)
     return out
+
+
+def _fits(kept, eye, centre):
+    """Whether a drawing's kept viewpoint (an eye, or MIXED) is one that sees the model
+    like ``eye``."""
+    return not isinstance(kept, str) and same_view(np.asarray(kept[:3], float), eye, centre)

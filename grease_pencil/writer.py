@@ -96,7 +96,10 @@ def write(obj, result, frame=1):
                     keep=None if region is None else lambda P, r=region: ~r.contains(P))
     for name in result.appended:
         write_layer(obj, name, result.strokes.layers.get(name, []), frame, keep=lambda P: np.ones(len(P), bool))
-    views.record(obj, result.owned + result.appended, frame, result.eye, result.centre)
+    whole = [n for n in result.owned if result.region is None or n not in STROKE_LAYERS]
+    views.record(obj, whole, frame, result.eye, result.centre)
+    views.record(obj, [n for n in result.owned if n not in whole], frame, result.eye, result.centre, result.region)
+    views.record(obj, result.appended, frame, result.eye, result.centre, region=True)
     return obj
 
 

@@ -19,6 +19,7 @@ tree's Region setting). Each request writes only its own layers
 first and its strokes are drawn (with the outlines where none are drawn yet), in the
 same undo step. With the tree's Paper on, the scene is put on white paper.
 """
+import functools
 import time
 import traceback
 from dataclasses import replace
@@ -107,25 +108,25 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         inverse = self.placement.inverted_safe()
         self.from_camera = ink.use_camera
         self.notes = []
-        centre, radius = PL.bounds(Evaluator(model))
+        framing = functools.cache(lambda: PL.bounds(Evaluator(model)))   # centre and radius, once asked for
         if ink.use_camera:
             eye = jobs.camera_eye(context.scene)
             off = jobs.off_camera(context.scene, tree)
             self.notes += [off] if off else []
         else:
-            eye = jobs.viewport_eye(context, radius)
+            eye = jobs.viewport_eye(context, framing()[1])
             if eye is None:
                 raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
                                   "from the 3D viewport, or switch From Camera on")
         job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink),
                        self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse)
         obj, frame = bpy.data.objects.get(ink_name(tree)), context.scene.frame_current
-        outlines = set(LAYER_OF_KIND.values())
-        if self.preset not in (NO_PRESET, "OUTLINES") and not job.wants_outline_layers() \
-                and outlines & set(jobs.drawn_elsewhere(obj, job, frame, centre, radius)):
-            job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
-        elsewhere = jobs.elsewhere_note(jobs.drawn_elsewhere(obj, job, frame, centre, radius))
-        self.notes += [elsewhere] if elsewhere else []
+        if obj is not None:             # what is drawn already, and for which viewpoint
+            if self.preset not in (NO_PRESET, "OUTLINES") and not job.wants_outline_layers() \
+                    and set(jobs.traced_layers(job)) & set(jobs.drawn_elsewhere(obj, job, frame, *framing())):
+                job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
+            elsewhere = jobs.elsewhere_note(jobs.drawn_elsewhere(obj, job, frame, *framing()), job)
+            self.notes += [elsewhere] if elsewhere else []
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         jobs.on_paper(context, tree)

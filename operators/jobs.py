@@ -1,7 +1,8 @@
 """Pipeline jobs from what Blender shows (the Blender side of every path that
 illustrates): the eye from the scene camera or the viewport, the light from the scene's
 lights, a request's region from the selection or the 3D cursor, the style and settings
-from the tree; which layers of the ink a job leaves were drawn for another viewpoint. The operators and the command line build their jobs here, so the same
+from the tree; which layers of the ink a job leaves were drawn for another
+viewpoint. The operators and the command line build their jobs here, so the same
 scene gives the same job whichever path draws."""
 import numpy as np
 from mathutils import Matrix, Vector
@@ -11,8 +12,8 @@ from ..agents import Region, Settings
 from ..blackboard.board import FEATURE_KINDS
 from ..blackboard.view import View
 from ..grease_pencil import views
-from ..pipeline.job import SINGLE_LAYER
-from ..strokes.data import LAYER_OF_KIND, LAYERS, STROKE_LAYERS
+from ..pipeline.job import SINGLE_LAYER, STYLE_LAYERS
+from ..strokes.data import LAYER_OF_KIND, LAYERS
 
 
 def _world(obj, depsgraph):
@@ -174,22 +175,31 @@ def tree_settings(ink):
 
 
 def drawn_elsewhere(obj, job, frame, centre, radius):
-    """The layers of the ink object ``obj`` on ``frame`` that ``job`` leaves as they
-    are but that were drawn for an eye that does not see the model as the job's does
-    (the model's ``centre`` and ``radius`` place its three-quarter eye, without a view).
-    The single strokes are the artist's own, from wherever they were drawn."""
+    """The layers of the ink object ``obj`` shown on ``frame`` that ``job`` leaves as
+    they are but that were drawn for an eye that does not see the model as the job's
+    does (the model's ``centre`` and ``radius`` place its three-quarter eye, without a
+    view). The single strokes are the artist's own, from wherever they were drawn."""
     eye = PL.view_eye(job.view, centre, radius)
     mine = set(job.owned_layers()) | set(job.appended_layers()) | {SINGLE_LAYER}
     return views.seen_from_elsewhere(obj, [n for n in LAYERS if n not in mine], frame, eye, centre)
 
 
-def elsewhere_note(layers):
-    """What a run says of the layers it left that were drawn for another viewpoint, and
-    which request draws them for this one (None when there are none)."""
+def traced_layers(job):
+    """The outline layers a Trace Feature Outlines with the job's settings draws."""
+    return [LAYER_OF_KIND[k] for k in job.settings.kinds]
+
+
+def elsewhere_note(layers, job):
+    """What a run says of the layers it left that were drawn for another viewpoint:
+    which request draws them for this one, or, for a layer the settings or the style
+    no longer draw, that Ink Layers clears it (None when there are none)."""
+    placed = [STYLE_LAYERS[k] for k in job.style.stroke_switches()]
     say = []
-    for names, request in (([n for n in layers if n in LAYER_OF_KIND.values()], "Trace Feature Outlines"),
-                           ([n for n in layers if n in STROKE_LAYERS], "Place Strokes")):
+    for names, what in (([n for n in layers if n in traced_layers(job)], "Trace Feature Outlines draws {} for this one"),
+                        ([n for n in layers if n in placed], "Place Strokes draws {} for this one"),
+                        ([n for n in layers if n not in traced_layers(job) and n not in placed],
+                         "switched off, Ink Layers clears {}")):
         if names:
             them = "it" if len(names) == 1 else "them"
-            say.append(f"{', '.join(names)} drawn for another viewpoint: {request} draws {them} for this one")
+            say.append(f"{', '.join(names)} drawn for another viewpoint: {what.format(them)}")
     return "; ".join(say) or None

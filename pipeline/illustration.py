@@ -300,7 +300,7 @@ class Illustration:
 
     def _hatching(self, cross=False):
         if self._parts is None:
-            self._crowding = LY.crowding(self.canvas)      # the layer's strokes so far, over its parts
+            self._crowding = LY.crowding(self.canvas, self.centre)      # the layer's strokes so far, over its parts
         self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching", cross=cross,
                            crowding=self._crowding)
 

@@ -104,10 +104,10 @@ def mark_parts(cv, sampling, marks, st, region):
     return [m.take(c) for c in _chunks(len(m), CHUNK)]
 
 
-def crowding(cv):
-    """What keeps a hatching layer's strokes from crowding together on the paper, over
-    its parts (strokes.crowding)."""
-    return CR.Crowding(cv.eye, CR.CROWD_GAP * cv.unit)
+def crowding(cv, centre):
+    """What keeps a hatching layer's strokes from crowding together on the paper (measured
+    at the model's ``centre``), over its parts (strokes.crowding)."""
+    return CR.Crowding(cv.eye, centre, CR.CROWD_GAP * cv.unit)
 
 
 def hatching(cv, sampling, st, region, part, cross=False, crowding=None):

@@ -20,7 +20,7 @@ from ..blackboard.board import pairs_within
 from ..model import keyed
 
 ORDER = 6                # which of two strokes that meet gives way (a salt, model.keyed)
-CROWD_GAP = 0.5         # stroke units on the paper: strokes closer than this meet ...
+CROWD_GAP = 0.5          # stroke units on the paper: strokes closer than this meet ...
 CROWD_ANGLE = 15.0       # ... when their directions on the paper differ by more than this many degrees
 KNOT = 1.0               # how much spread of the strokes met (see _knots) thins a point to nothing
 
@@ -30,67 +30,80 @@ class Crowding:
     strokes thin out where they run into a knot of strokes before them (the parts
     before come first, then the marks' order)."""
 
-    def __init__(self, eye, gap):
-        """``gap``: CROWD_GAP in model units (stroke units times the canvas's unit)."""
+    def __init__(self, eye, centre, gap):
+        """``gap``: CROWD_GAP in model units (stroke units times the canvas's unit),
+        measured on the paper at the model's ``centre``."""
         self.eye = np.asarray(eye, float)
         self.gap = float(gap)
-        self.reach = None                     # the distance the paper is measured at (the first part's)
+        self.reach = float(np.linalg.norm(np.asarray(centre, float) - self.eye)) or 1.0
+        # the probes drawn so far (their places on the paper, directions, owners, and the
+        # probes before and after them on their strokes: themselves at an end)
         self.points, self.directions = np.zeros((0, 3)), np.zeros((0, 3))
-        self.owners, self.count = np.zeros(0, np.int64), 0     # whose each point is, and how many owners so far
+        self.owners, self.count = np.zeros(0, np.int64), 0     # ... and how many owners so far
+        self.before, self.after = np.zeros(0, np.int64), np.zeros(0, np.int64)
 
     def thinned(self, strokes):
         """The strokes, each point's radius and opacity times the least that the knots
-        leave (:func:`_knots`: 1 outside any, 0 in a knot's heart) of it and of the points
-        before it on its stroke: a stroke ends where that comes to nothing, and one left
-        with fewer than two points is dropped. The strokes as
-        they came (their whole paths) thin the strokes after them, here and in the parts
-        to come."""
+        leave (:func:`_knots`: 1 outside any, 0 in a knot's heart) of it and of the
+        points before it on its stroke: a stroke ends where that comes to nothing, and
+        one left with fewer than two points is dropped. The strokes as they came (their
+        whole paths) thin the strokes after them, here and in the parts to come."""
         if not strokes:
             return []
         sizes = np.array([len(s.points) for s in strokes])
         at = np.cumsum(sizes) - sizes
         P = np.concatenate([np.asarray(s.points, float).reshape(-1, 3) for s in strokes])
-        if self.reach is None:
-            self.reach = float(np.median(np.linalg.norm(P - self.eye, axis=1)))
         local = np.arange(len(P)) - np.repeat(at, sizes)
         # every other point of each stroke, and its last, stand for it (a point between two
-        # of them takes their mean): a quarter of the pairs to weigh
+        # of them takes their mean; a stroke met is the polyline through its probes)
         probe = (local % 2 == 0) | (local == np.repeat(sizes, sizes) - 1)
         Q = self._on_paper(P)
         T = _directions(Q, at, sizes)
         T = T - np.einsum("ij,ij->i", T, Q)[:, None] * Q / self.reach ** 2     # across the line of sight
         T /= np.maximum(np.linalg.norm(T, axis=1), 1e-300)[:, None]
         owner, place = _owners(strokes)
-        own = np.repeat(owner, sizes)[probe]                               # each probe's owner
+        stroke = np.repeat(np.arange(len(strokes)), sizes)[probe]
+        own = owner[stroke]                                                # each probe's owner
         Q, T = Q[probe], T[probe]
-        i0, j0 = pairs_within(Q, self.points, self.gap)
-        i1, j1 = pairs_within(Q, Q, self.gap)
+        n = len(Q)
+        first = np.r_[True, stroke[1:] != stroke[:-1]]
+        last = np.r_[stroke[1:] != stroke[:-1], True]
+        before = np.where(first, np.arange(n), np.arange(n) - 1)
+        after = np.where(last, np.arange(n), np.arange(n) + 1)
+        # a segment between probes within the gap has an end within the gap and half its length
+        reach = self.gap + 0.5 * max(_longest(Q, after), _longest(self.points, self.after))
+        i0, j0 = pairs_within(Q, self.points, reach)
+        i1, j1 = pairs_within(Q, Q, reach)
         later = place[own[j1]] < place[own[i1]]
         i1, j1 = i1[later], j1[later]
         # the strokes met, heading another way: the earlier parts', then this part's before in the order
         i = np.concatenate([i0, i1])
         D = np.concatenate([self.directions[j0], T[j1]])
         way = _another_way(np.einsum("ij,ij->i", T[i], D))
-        some = way > 0
-        i, D, way = i[some], D[some], way[some]
-        Qj = np.concatenate([self.points[j0], Q[j1]])[some]
-        whose = np.concatenate([self.owners[j0], own[j1] + self.count])[some]
-        near = np.clip(1.0 - np.sum((Q[i] - Qj) ** 2, axis=1) / self.gap ** 2, 0.0, 1.0)
+        some = (way > 0) & (np.einsum("ij,ij->i", T[i], T[i]) > 0.5) & (np.einsum("ij,ij->i", D, D) > 0.5)
+        i, D, way, j0, j1 = i[some], D[some], way[some], j0[some[:len(j0)]], j1[some[len(j0):]]
+        whose = np.concatenate([self.owners[j0], own[j1] + self.count])
+        gone = np.concatenate([_to_polyline(Q[i[:len(j0)]], self.points, self.before, self.after, j0),
+                               _to_polyline(Q[i[len(j0):]], Q, before, after, j1)])
+        near = np.clip(1.0 - gone ** 2 / self.gap ** 2, 0.0, 1.0)
         left = np.ones(len(P))
-        left[probe] = _knots(len(Q), self._basis(Q), i, whose, D, near * near * way)
+        left[probe] = _knots(n, self._basis(Q), i, whose, D, near * near * way)
         between = np.flatnonzero(~probe)
         left[between] = 0.5 * (left[between - 1] + left[between + 1])
         out = []
-        for s, a, n in zip(strokes, at, sizes):
-            f = np.minimum.accumulate(left[a:a + n])         # the pen does not come back
+        for s, a, k in zip(strokes, at, sizes):
+            f = np.minimum.accumulate(left[a:a + k])         # the pen does not come back
             end = int(np.count_nonzero(f))                   # it ends where it fades to nothing
             if end < 2:
                 continue
             out.append(s if np.all(f == 1.0) else replace(s, points=s.points[:end], radius=s.radius[:end] * f[:end],
                                                          opacity=s.opacity[:end] * f[:end], cyclic=False))
+        m = len(self.points)
         self.points = np.vstack([self.points, Q])
         self.directions = np.vstack([self.directions, T])
         self.owners = np.concatenate([self.owners, own + self.count])
+        self.before = np.concatenate([self.before, before + m])
+        self.after = np.concatenate([self.after, after + m])
         self.count += int(owner.max()) + 1
         return out
 
@@ -103,11 +116,28 @@ class Crowding:
         return x, np.cross(view, x)
 
     def _on_paper(self, P):
-        """Points as the eye sees them: their directions from it, at the distance of the
-        first part's strokes (so a distance between two is one on the paper, in model
-        units near the model)."""
+        """Points as the eye sees them: their directions from it, at the model's distance
+        (so a distance between two is one on the paper, in model units at the model)."""
         V = P - self.eye
         return V / np.linalg.norm(V, axis=1)[:, None] * self.reach
+
+
+def _longest(Q, after):
+    """The longest segment from a probe to the next on its stroke (0 without any)."""
+    return float(np.linalg.norm(Q[after] - Q, axis=1).max()) if len(Q) else 0.0
+
+
+def _to_polyline(X, Q, before, after, j):
+    """Each point X[k]'s distance to the two segments of its stroke's probe polyline
+    that meet at probe j[k] (Q: the probes; before, after: each probe's neighbours)."""
+    return np.minimum(_to_segment(X, Q[before[j]], Q[j]), _to_segment(X, Q[j], Q[after[j]]))
+
+
+def _to_segment(X, A, B):
+    """Distances from points X to segments AB (a point where A is B)."""
+    AB = B - A
+    t = np.clip(np.einsum("ij,ij->i", X - A, AB) / np.maximum(np.einsum("ij,ij->i", AB, AB), 1e-300), 0.0, 1.0)
+    return np.linalg.norm(X - (A + t[:, None] * AB), axis=1)
 
 
 def _owners(strokes):

@@ -230,3 +230,39 @@ def test_layers_drawn_for_another_viewpoint_are_named_and_a_look_redraws_its_out
     assert run["warnings"] == []
     assert np.allclose(list(obj[views.KEY]["Silhouette@1"])[:3], (-4.0, -6.2, 3.4), atol=1e-4)
     assert np.allclose(list(obj[views.KEY]["Hatching@1"])[:3], (-4.0, -6.2, 3.4), atol=1e-4)
+    # the same look from the same viewpoint traces nothing again
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
+    assert run["warnings"] == [] and run["iterations"] == 0
+    # a layer the style no longer draws is named as such, and does not make every look trace again
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
+    assert run["iterations"] == 0 and len(ink("pear")["Stipples"]) > 0
+    aimed_camera((-4.4, -5.8, 3.4), (0, 0, 0))
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
+    stipples = "Stipples drawn for another viewpoint: switched off, Ink Layers clears it"
+    assert run["warnings"] == [stipples] and run["iterations"] > 0
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
+    assert run["warnings"] == [stipples] and run["iterations"] == 0
+
+
+def test_a_layer_redrawn_in_a_region_for_another_viewpoint_is_mixed(ext, example):
+    """Strokes redrawn only in a region for another eye leave the rest as they were:
+    the drawing holds both viewpoints, and no eye is its own any more."""
+    views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree = bpy.data.node_groups["pear"]
+    tree.ink.grid_resolution = 12
+    tree.ink.hatching = True
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    obj = bpy.data.objects["pear Ink"]
+    eye, centre = np.array(obj[views.KEY]["Hatching@1"][:3]), np.zeros(3)
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, eye, centre) == []
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 7, eye, centre) == []          # frame 1's drawing, held
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 7, -eye, centre) == ["Hatching"]
+    views.record(obj, ["Hatching"], 1, eye, centre, region="a region")                # the same eye: still its own
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, eye, centre) == []
+    views.record(obj, ["Hatching"], 1, -eye, centre, region="a region")
+    assert obj[views.KEY]["Hatching@1"] == views.MIXED
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, eye, centre) == ["Hatching"]
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, -eye, centre) == ["Hatching"]
+    views.record(obj, ["Hatching"], 1, -eye, centre)                                  # redrawn whole
+    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, -eye, centre) == []

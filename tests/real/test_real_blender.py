@@ -175,7 +175,8 @@ def test_real_ui_add_menu_search_and_whole_node_errors(user_dir, tmp_path):
     # the editor shows the active object's tree, and a tree browsed to until another object is made active
     assert facts["active_after_import"] == "pear Preview" and facts["shown_after_import"] == "pear"
     assert facts["shown_after_browse"] == "Sketch" and facts["shown_with_cube_active"] == "Sketch"
-    assert facts["shown_with_pear_active"] == "pear"
+    assert facts["shown_with_pear_active"] == "pear" and facts["cube"] == "Cube"
+    assert facts["shown_when_emptied"] == "pear" and facts["shown_pinned"] == "Sketch"
 
 
 def _ink_mask(strokes, shape, reach=3, step=0.5):

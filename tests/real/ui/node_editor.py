@@ -5,7 +5,8 @@ with nothing linked in: each time the preview's compile puts the error on the no
 and the sidebar's Errors panel (Node tab) shows it whole; hovering the node's error
 icon shows it as a tooltip. Then the editor follows the active object's tree (the
 pear's preview, made active by an import and again after another object), while a tree
-the artist browses to stays until another object is made active. Screenshots of each
+the artist browses to stays until another object is made active; an editor left with
+no tree shows the active object's; a pinned one keeps its tree. Screenshots of each
 step; facts for the test."""
 import os
 import sys
@@ -141,8 +142,17 @@ def following_the_active_object(win, area, space, sketch):
     layer.objects.active = cube                   # an object of no tree: the browsed tree stays
     record(shown_with_cube_active=(yield from shown_after_redraw(area, space)))
     layer.objects.active = pear.preview_object
-    record(shown_with_pear_active=(yield from shown_after_redraw(area, space)))
+    record(shown_with_pear_active=(yield from shown_after_redraw(area, space)), cube=getattr(cube, "name", None))
     yield {"action": "screenshot", "name": "node_editor_follows.png"}
+    space.node_tree = None                        # an editor showing no tree (its browse menu's X)
+    record(shown_when_emptied=(yield from shown_after_redraw(area, space)))
+    space.node_tree = sketch
+    space.pin = True                              # the pin keeps a tree whatever is made active
+    layer.objects.active = cube
+    yield from shown_after_redraw(area, space)
+    layer.objects.active = pear.preview_object
+    record(shown_pinned=(yield from shown_after_redraw(area, space)))
+    space.pin = False
 
 
 Steps(run())
