@@ -85,11 +85,29 @@ def _weight(name, default):
                                    description=f"Custom weight of a behaviour: {WEIGHT_TIPS[name]}")
 
 
+def put_on_paper(tree, context):
+    """The scene on white paper (what it replaced kept on the tree, to give back), the
+    screen's 3D viewports on the world's white, the preview mesh white."""
+    from ..grease_pencil import scene as S
+    from . import preview
+    was = S.paper(context.scene)
+    if was:
+        tree.ink.paper_restore = was
+    S.paper_viewports(context.screen, True)
+    preview.paper_look(tree)
+
+
 def _paper(self, context):
     from ..grease_pencil import scene as S
-    if not self.paper and context.scene is not None:
+    if context.scene is None:
+        return
+    if self.paper:
+        put_on_paper(self.id_data, context)
+    else:
+        from . import preview
         S.unpaper(context.scene, self.paper_restore)
         S.paper_viewports(context.screen, False)
+        preview.paper_look(self.id_data)
         self.paper_restore = ""
 
 

@@ -52,18 +52,11 @@ def attach(ink, tree):
 
 
 def on_paper(context, tree):
-    """Where the tree's Paper is on: the scene on white paper (what it replaced kept on
-    the tree, to give back), the screen's 3D viewports on the world's white, the preview
-    mesh white."""
-    if not tree.ink.paper:
-        return
-    from ..blobtree_nodes import preview
-    from ..grease_pencil import scene as S
-    was = S.paper(context.scene)
-    if was:
-        tree.ink.paper_restore = was
-    S.paper_viewports(context.screen, True)
-    preview.paper_look(tree)
+    """Where the tree's Paper is on: the scene, the screen's 3D viewports and the
+    preview on white paper (blobtree_nodes.settings.put_on_paper)."""
+    if tree.ink.paper:
+        from ..blobtree_nodes.settings import put_on_paper
+        put_on_paper(tree, context)
 
 
 def camera_eye(scene, depsgraph=None):

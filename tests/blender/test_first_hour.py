@@ -142,6 +142,12 @@ def test_paper_is_set_up_and_given_back(example):
     assert not any(vl.use_pass_z for vl in sc.view_layers)
     assert not tree.preview_object.data.materials or tree.preview_object.data.materials[0] is None or \
         tree.ink.paper is False
+    assert len(tree.preview_object.data.materials) == 0                # the preview's own look too
+    tree.ink.paper = True                                            # ticked again: on paper at once
+    assert sc.world.name == "BlobTree Ink Paper" and sc.view_settings.view_transform == "Standard"
+    assert tree.preview_object.data.materials[0].diffuse_color[:3] == (1.0, 1.0, 1.0)
+    tree.ink.paper = False
+    assert sc.world == old and sc.view_settings.view_transform == was
 
 
 @pytest.mark.parametrize("engine", ["BLENDER_WORKBENCH", EEVEE])
