@@ -30,7 +30,7 @@ from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview
 from ..blobtree_nodes.compile import TreeError, compile_document, same_model
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
-from ..grease_pencil.writer import ink_object, stroke_count, write
+from ..grease_pencil.writer import ink_object, stroke_count, write, write_layer
 from ..strokes.data import LAYER_OF_KIND
 from ..model import Evaluator
 from . import jobs, region_overlay
@@ -121,12 +121,18 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink),
                        self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse)
         obj, frame = bpy.data.objects.get(ink_name(tree)), context.scene.frame_current
+        self.unfit = []                 # the layers a look clears once done: drawn for another viewpoint
         if obj is not None:             # what is drawn already, and for which viewpoint
-            if self.preset not in (NO_PRESET, "OUTLINES") and not job.wants_outline_layers() \
+            look = self.preset != NO_PRESET
+            if look and self.preset != "OUTLINES" and not job.wants_outline_layers() \
                     and set(jobs.traced_layers(job)) & set(jobs.drawn_elsewhere(obj, job, frame, *framing())):
                 job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
-            elsewhere = jobs.elsewhere_note(jobs.drawn_elsewhere(obj, job, frame, *framing()), job)
-            self.notes += [elsewhere] if elsewhere else []
+            elsewhere = jobs.drawn_elsewhere(obj, job, frame, *framing())
+            if look:
+                self.unfit = elsewhere
+            else:
+                note = jobs.elsewhere_note(elsewhere, job)
+                self.notes += [note] if note else []
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         jobs.on_paper(context, tree)
@@ -143,6 +149,17 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     def _write(self, result):
         write(ink_object(self.obj_name), result, frame=self.frame)
         last_run["strokes"] = result.strokes.count()
+
+    def _clear_unfit(self):
+        """A look that ran to its end is one drawing: the layers it left that were drawn
+        for another viewpoint are cleared (said in the report; Ctrl+Z brings them back)."""
+        if self.unfit:
+            obj = ink_object(self.obj_name)
+            for name in self.unfit:
+                write_layer(obj, name, [], frame=self.frame)
+            them = "it" if len(self.unfit) == 1 else "them"
+            self.notes.append(f"{', '.join(self.unfit)} cleared: drawn for another viewpoint (Ctrl+Z brings "
+                              f"{them} back)")
 
     def _figures(self, progress):
         last_run.update(iterations=progress.iterations, outline_length=progress.outline_length,
@@ -165,6 +182,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             region_overlay.show(self.tree_key, [])
         self._figures(result.progress)
         self._write(result)
+        self._clear_unfit()
         self._report_done("done", result.warnings + self.notes)
         return {"FINISHED"}
 
@@ -265,6 +283,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self._figures(result.progress)
             if state == "stopped":         # how far it had come when Esc was pressed
                 last_run["fraction"] = min(last_run["fraction"], self.stopped_at)
+            if state == "done":
+                self._clear_unfit()
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
         self._report_done(state, warnings + self.runner.notes + self.notes, camera_hint(context, self.from_camera))

@@ -194,7 +194,8 @@ def test_a_running_illustration_stops_only_for_a_change_of_the_model(ext, exampl
 def test_layers_drawn_for_another_viewpoint_are_named_and_a_look_redraws_its_outlines(ext, example):
     """Each layer remembers the eye it was drawn for. A request that leaves layers drawn
     for another viewpoint says which and what redraws them; a look draws its outlines
-    again when they were drawn for another viewpoint (one drawing, one viewpoint)."""
+    again when they were drawn for another viewpoint, and clears what it leaves that
+    was (one drawing, one viewpoint)."""
     from aimed_camera import aimed_camera
     run = __import__(f"{ext.__name__}.operators.illustrate", fromlist=["x"]).last_run
     views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
@@ -238,10 +239,19 @@ def test_layers_drawn_for_another_viewpoint_are_named_and_a_look_redraws_its_out
     assert run["iterations"] == 0 and len(ink("pear")["Stipples"]) > 0
     aimed_camera((-4.4, -5.8, 3.4), (0, 0, 0))
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
-    stipples = "Stipples drawn for another viewpoint: switched off, Ink Layers clears it"
-    assert run["warnings"] == [stipples] and run["iterations"] > 0
+    assert run["warnings"] == ["Stipples cleared: drawn for another viewpoint (Ctrl+Z brings it back)"]
+    assert run["iterations"] > 0 and ink("pear")["Stipples"] == [] and len(ink("pear")["Hatching"]) > 0
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
-    assert run["warnings"] == [stipples] and run["iterations"] == 0
+    assert run["warnings"] == [] and run["iterations"] == 0
+    # a request names a layer its style no longer draws, and leaves it
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
+    aimed_camera((-4.4, -5.6, 3.8), (0, 0, 0))
+    tree.ink.hatching, tree.ink.stipples = True, False
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    assert run["warnings"] == ["Silhouette, Crease drawn for another viewpoint: Trace Feature Outlines draws them "
+                               "for this one; Stipples drawn for another viewpoint: switched off, Ink Layers "
+                               "clears it"]
+    assert len(ink("pear")["Stipples"]) > 0
 
 
 def test_a_layer_redrawn_in_a_region_for_another_viewpoint_is_mixed(ext, example):
