@@ -70,10 +70,10 @@ class Crowding:
         last = np.r_[stroke[1:] != stroke[:-1], True]
         before = np.where(first, np.arange(n), np.arange(n) - 1)
         after = np.where(last, np.arange(n), np.arange(n) + 1)
-        # a segment between probes within the gap has an end within the gap and half its length
-        reach = self.gap + 0.5 * max(_longest(Q, after), _longest(self.points, self.after))
-        i0, j0 = pairs_within(Q, self.points, reach)
-        i1, j1 = pairs_within(Q, Q, reach)
+        # the probes within the gap, and their segments: a segment that passes within the gap
+        # with both ends beyond it (its probes about a gap apart) would weigh little
+        i0, j0 = pairs_within(Q, self.points, self.gap)
+        i1, j1 = pairs_within(Q, Q, self.gap)
         later = place[own[j1]] < place[own[i1]]
         i1, j1 = i1[later], j1[later]
         # the strokes met, heading another way: the earlier parts', then this part's before in the order
@@ -120,11 +120,6 @@ class Crowding:
         (so a distance between two is one on the paper, in model units at the model)."""
         V = P - self.eye
         return V / np.linalg.norm(V, axis=1)[:, None] * self.reach
-
-
-def _longest(Q, after):
-    """The longest segment from a probe to the next on its stroke (0 without any)."""
-    return float(np.linalg.norm(Q[after] - Q, axis=1).max()) if len(Q) else 0.0
 
 
 def _to_polyline(X, Q, before, after, j):
