@@ -21,9 +21,11 @@ def record(obj, layers, frame, eye, centre, region=None):
     (the model's ``centre`` tells two eyes apart; both in the model's coordinates). A
     drawing redrawn only in a ``region`` for another eye than its own holds both: it
     is mixed from then on."""
-    if eye is None or centre is None:
+    if eye is None or centre is None or not layers:
         return
-    views = dict(obj.get(KEY, {}))
+    if KEY not in obj:
+        obj[KEY] = {}
+    views = obj[KEY]                    # set in place: a bake's many frames are not copied each frame
     for layer in layers:
         key = _key(layer, frame)
         old = views.get(key)
@@ -31,7 +33,6 @@ def record(obj, layers, frame, eye, centre, region=None):
             views[key] = MIXED
         else:
             views[key] = [float(v) for v in eye]
-    obj[KEY] = views
 
 
 def seen_from_elsewhere(obj, layers, frame, eye, centre):

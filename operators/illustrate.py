@@ -124,10 +124,11 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.unfit = []                 # the layers a look clears once done: drawn for another viewpoint
         if obj is not None:             # what is drawn already, and for which viewpoint
             look = self.preset != NO_PRESET
-            if look and self.preset != "OUTLINES" and not job.wants_outline_layers() \
-                    and set(jobs.traced_layers(job)) & set(jobs.drawn_elsewhere(obj, job, frame, *framing())):
-                job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
             elsewhere = jobs.drawn_elsewhere(obj, job, frame, *framing())
+            if look and self.preset != "OUTLINES" and not job.wants_outline_layers() \
+                    and set(jobs.traced_layers(job)) & set(elsewhere):
+                job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
+                elsewhere = [n for n in elsewhere if n not in job.owned_layers()]
             if look:
                 self.unfit = elsewhere
             else:
