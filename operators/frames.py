@@ -61,6 +61,18 @@ def shown_key(layer, frame):
     return max(keys, key=lambda f: f.frame_number) if keys else None
 
 
+def shown_counts(obj, frame):
+    """{layer: the strokes of its drawing shown at ``frame``} of a Grease Pencil object
+    (0 before a layer's first key)."""
+    return {layer.name: strokes_at(layer, frame) for layer in obj.data.layers}
+
+
+def strokes_at(layer, frame):
+    """The strokes of a layer's drawing shown at a frame (0 before its first key)."""
+    key = shown_key(layer, frame)
+    return len(key.drawing.strokes) if key is not None else 0
+
+
 def end_hold(obj, frame):
     """Grease Pencil holds a layer's drawing until the layer's next key: each layer that
     shows strokes at ``frame`` and has no key on the next frame gets an empty drawing

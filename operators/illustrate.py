@@ -33,6 +33,7 @@ from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_
 from ..grease_pencil.writer import ink_object, stroke_count, write, write_layer
 from ..strokes.data import LAYER_OF_KIND
 from ..model import Evaluator
+from . import frames as FR
 from . import jobs, region_overlay
 from .common import context_tree, ink_name
 
@@ -313,6 +314,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         """The run's summary, then its warnings: the status bar shows the last report, so
         a warning is not hidden behind the summary."""
         last_run.update(state=state, warnings=list(warnings))
+        obj = bpy.data.objects.get(self.obj_name)
+        if obj is not None:                # what it left, for the sidebar to tell an undone run
+            last_run["left"] = {"object": obj.name, "frame": self.frame, "counts": FR.shown_counts(obj, self.frame)}
         traced = f", the outlines after {last_run['iterations']} iterations" if last_run["iterations"] else ""
         n = last_run.get("strokes", 0)
         self.report({"INFO"}, f"Illustration {state}: {n} stroke{'' if n == 1 else 's'}{traced}{hint}")

@@ -151,7 +151,7 @@ def _draw_layers(layout, tree):
     col = layout.column(align=True)
     frame = bpy.context.scene.frame_current
     for layer in obj.data.layers:
-        n = _strokes_at(layer, frame)
+        n = FR.strokes_at(layer, frame)
         row = col.row(align=True)
         row.active = n > 0                  # an empty layer greyed out
         op = row.operator("blobtree_ink.toggle_layer", text=f"{layer.name} ({n})",
@@ -161,12 +161,6 @@ def _draw_layers(layout, tree):
         clear.enabled = n > 0
         op = clear.operator("blobtree_ink.clear_layer", text="", icon="X")
         op.object_name, op.layer = obj.name, layer.name
-
-
-def _strokes_at(layer, frame):
-    """The strokes of a layer's drawing shown at a frame (0 before its first key)."""
-    key = FR.shown_key(layer, frame)
-    return len(key.drawing.strokes) if key is not None else 0
 
 
 def _draw_last_run(layout, tree):
@@ -180,9 +174,22 @@ def _draw_last_run(layout, tree):
         col.label(text=f"Last run: stopped at {pct:.0f} %")
     else:
         col.label(text=f"Last run: {state}")
+    if state in ("done", "stopped") and changed_since(last_run):
+        col.label(text="The ink has changed since (undone or edited)", icon="INFO")
+        return
     col.label(text=f"Strokes: {last_run.get('strokes', 0)}")
     if last_run.get("iterations"):
         col.label(text=f"Agents' iterations: {last_run['iterations']}")
+
+
+def changed_since(run):
+    """Whether the ink a run left (its object's strokes per layer on its frame) is no
+    longer what it shows: Ctrl+Z took the run back, or the artist edited its strokes."""
+    left = run.get("left")
+    if left is None:
+        return False
+    obj = bpy.data.objects.get(left["object"])
+    return obj is None or obj.type != "GREASEPENCIL" or FR.shown_counts(obj, left["frame"]) != left["counts"]
 
 
 class _Sidebar:

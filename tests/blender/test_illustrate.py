@@ -132,7 +132,8 @@ def test_place_strokes_uses_the_tree_style_and_the_scene_sun(example):
 
 def test_ink_layers_clears_one_layer_at_this_frame(example):
     """Ink Layers has a clear button per layer, greyed out where the layer is empty: it
-    removes that layer's strokes at this frame (one undo step); the other layers stay."""
+    removes that layer's strokes at this frame (one undo step); the other layers stay.
+    The sidebar's "Last run" then says the ink changed since the run."""
     from types import SimpleNamespace
 
     from recording_layout import Layout
@@ -150,9 +151,22 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     assert clears["Stipples"]["props"].object_name == "pear Ink"
     enabled = {k for k, i in clears.items() if i["enabled"]}
     assert enabled == {k for k, v in before.items() if v} and "Stipples" in enabled and "Hatching" not in enabled
+    run = Layout()
+    panels._draw_last_run(run, tree)
+    shown = [i["text"] for i in run.of("label")]
+    assert shown[0] == "Last run: done" and shown[1].startswith("Strokes: ")
     assert bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Stipples") == {"FINISHED"}
     after = ink("pear")
     assert after["Stipples"] == [] and len(after["Silhouette"]) == len(before["Silhouette"])
+    # the sidebar's figures are the run's, no longer the ink's: it says so, not the old count
+    run = Layout()
+    panels._draw_last_run(run, tree)
+    assert [i["text"] for i in run.of("label")] == ["Last run: done", "The ink has changed since (undone or edited)"]
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
+    run = Layout()
+    panels._draw_last_run(run, tree)
+    shown = [i["text"] for i in run.of("label")]
+    assert shown[0] == "Last run: done" and shown[1].startswith("Strokes: ")
     with pytest.raises(RuntimeError, match="no ink layer 'Nope' on 'pear Ink'"):
         bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Nope")
 

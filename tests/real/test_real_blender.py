@@ -94,6 +94,8 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     # one undo removes the whole run, and only the run
     assert facts["strokes_after_undo"] == 0 and facts["ink_object_after_undo"] is False
     assert facts["tree_after_undo"] is True
+    # the sidebar's "Last run" tells the run it shows was taken back
+    assert facts["changed_before_undo"] is False and facts["changed_after_undo"] is True
     assert facts["edited_state"] == "tree edited"                # editing the tree stops a run
     for name in ("illustrate_running.png", "illustrate_stopped.png"):
         png = artifact(name)

@@ -3,7 +3,7 @@ with an event loop), hold its worker after two system iterations (the runner's t
 hook: the run is mid-way whatever the machine's speed), check that another timer keeps
 ticking, take a screenshot, press Esc through xdotool, check the outlines found so far
 stay (their hidden lines removed), screenshot, then undo once and check the run is
-gone; a second run is stopped by editing the tree."""
+gone (the sidebar says the ink changed since the run); a second run is stopped by editing the tree."""
 import os
 import sys
 import time
@@ -81,10 +81,13 @@ def run():
     idle = [b - a for a, b in zip(ticks, ticks[1:]) if b < started]
     bpy.app.timers.unregister(other_timer)
     yield {"action": "screenshot", "name": "illustrate_stopped.png"}
+    panels = sys.modules[EXT + ".operators.panels"]
+    record(changed_before_undo=panels.changed_since(ill.last_run))
     with bpy.context.temp_override(window=win, area=view3d, region=region):
         bpy.ops.ed.undo()
     yield 0.5
-    record(strokes_after_undo=strokes_of("heart Ink"),
+    record(changed_after_undo=panels.changed_since(ill.last_run),
+           strokes_after_undo=strokes_of("heart Ink"),
            ink_object_after_undo=bpy.data.objects.get("heart Ink") is not None,
            tree_after_undo="heart" in bpy.data.node_groups)
     # a second run, stopped by editing the tree
