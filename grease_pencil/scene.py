@@ -97,14 +97,14 @@ def setup(scene, centre, eye, size, light_dir):
     cam.data.sensor_width = SENSOR
     cam.location = tuple(float(x) for x in eye)
     look = np.asarray(centre, float) - np.asarray(eye, float)
-    cam.rotation_euler = _look_rotation(look)
+    cam.rotation_euler = look_rotation(look)
     cam.data.clip_end = max(1000.0, 10 * float(np.linalg.norm(look)))
     scene.camera = cam
     light = bpy.data.objects.get(LIGHT)
     if light is None:
         light = bpy.data.objects.new(LIGHT, bpy.data.lights.new(LIGHT, "SUN"))
         scene.collection.objects.link(light)
-    light.rotation_euler = _look_rotation(-np.asarray(light_dir, float))
+    light.rotation_euler = look_rotation(-np.asarray(light_dir, float))
     r = scene.render
     r.engine = "BLENDER_WORKBENCH"
     r.resolution_x = r.resolution_y = int(size)
@@ -115,7 +115,7 @@ def setup(scene, centre, eye, size, light_dir):
     return cam, light
 
 
-def _look_rotation(direction):
+def look_rotation(direction):
     """Euler angles pointing an object's -Z along direction with +Y up."""
     from mathutils import Vector
     return Vector(tuple(float(x) for x in direction)).to_track_quat("-Z", "Y").to_euler()

@@ -1,12 +1,12 @@
 """Operators (Blender layer), one per file, and the sidebar panels."""
 import bpy
 
-from . import (activate_tree, apply_preset, bake, clear_frames, clear_layer, export_json, illustrate, import_json,
-               menus, panels, rebuild_preview, region_overlay, render_frames, toggle_layer)
+from . import (activate_tree, apply_preset, bake, clear_frames, clear_layer, export_json, frame_camera, illustrate,
+               import_json, menus, panels, rebuild_preview, region_overlay, render_frames, toggle_layer)
 
 classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes, *illustrate.classes,
            *apply_preset.classes, *toggle_layer.classes, *clear_layer.classes, *activate_tree.classes, *bake.classes,
-           *clear_frames.classes, *panels.classes,
+           *clear_frames.classes, *frame_camera.classes, *panels.classes,
            *menus.classes)
 
 

@@ -85,8 +85,8 @@ def off_camera(scene, tree):
     inside = float(np.mean((seen[:, 2] > 0) & (seen[:, :2] >= 0).all(axis=1) & (seen[:, :2] <= 1).all(axis=1)))
     if inside >= IN_CAMERA:
         return None
-    return (f"'{tree.name}' is {'outside' if inside == 0 else 'partly outside'} the scene camera's view: move the "
-            "camera (Numpad 0 looks through it) or untick From Camera")
+    return (f"'{tree.name}' is {'outside' if inside == 0 else 'partly outside'} the scene camera's view: Frame "
+            "Camera (beside From Camera) aims it at the model, or untick From Camera")
 
 
 ORTHO_DISTANCE = 100.0      # an orthographic view's eye: this many model radii back along its direction

@@ -80,7 +80,9 @@ def _draw_tree(layout, tree):
     col.prop(s, "lod")
     col.prop(s, "seed")
     col = layout.column(align=True)
-    col.prop(s, "use_camera")
+    row = col.row(align=True)
+    row.prop(s, "use_camera")
+    row.operator("blobtree_ink.frame_camera", icon="CAMERA_DATA").tree_name = tree.name
     col.prop(s, "region", text="")
     if s.region == "CURSOR":
         col.prop(s, "region_size")

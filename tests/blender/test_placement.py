@@ -85,8 +85,8 @@ def test_a_model_outside_the_camera_says_so_when_drawn_from_camera(ext, example)
     tree.preview_object.location = (4.0, 0.0, 0.0)                # beside it: out of the frame
     bpy.context.view_layer.update()
     note = jobs.off_camera(sc, tree)
-    assert note == "'sphere' is outside the scene camera's view: move the camera (Numpad 0 looks through it) or " \
-                   "untick From Camera"
+    assert note == "'sphere' is outside the scene camera's view: Frame Camera (beside From Camera) aims it at " \
+                   "the model, or untick From Camera"
     tree.preview_object.location = (2.0, 0.0, 0.0)                # cut by the frame's edge
     bpy.context.view_layer.update()
     assert "'sphere' is partly outside the scene camera's view" in jobs.off_camera(sc, tree)
@@ -98,3 +98,62 @@ def test_a_model_outside_the_camera_says_so_when_drawn_from_camera(ext, example)
     assert jobs.off_camera(sc, tree) is not None
     sc.camera = None
     assert jobs.off_camera(sc, tree) is None
+
+
+def in_frame(cam, obj):
+    """The preview's vertices in the camera's normalised frame (x, y in 0..1 inside it)."""
+    from bpy_extras.object_utils import world_to_camera_view
+    sc = bpy.context.scene
+    return np.array([tuple(world_to_camera_view(sc, cam, obj.matrix_world @ v.co)) for v in obj.data.vertices])
+
+
+def test_frame_camera_aims_the_scene_camera_at_a_model_beside_the_first(ext, example):
+    """A second import lands beside the first, out of the camera's view: Frame Camera
+    moves the camera along its line of sight until the model fills the frame with the
+    command line's margin (a perspective camera backs off, an orthographic one zooms),
+    its direction kept; without a camera it makes one; a broken tree changes nothing."""
+    from importlib import import_module
+    jobs = import_module(f"{ext.__name__}.operators.jobs")
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    tree, sc = bpy.data.node_groups["sphere"], bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y = 1920, 1080
+    cam = aimed_camera((-6.0, -8.0, 1.0), (-6.0, 0.0, 0.5))          # looking past the models
+    ahead = cam.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))
+    assert jobs.off_camera(sc, tree) is not None
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere") == {"FINISHED"}
+    bpy.context.view_layer.update()
+    assert jobs.off_camera(sc, tree) is None
+    assert (cam.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))).angle(ahead) < 1e-6     # its direction kept
+    seen = in_frame(cam, tree.preview_object)
+    assert (seen[:, :2] > 0).all() and (seen[:, :2] < 1).all()
+    # the sphere fills the frame's height, less the margin (its radius over the frame's half-height is 1/MARGIN)
+    tall = np.ptp(seen[:, 1])
+    assert 0.80 < tall < 1 / 1.15 + 0.01, tall
+    # orthographic: zoomed to the same share of the frame
+    cam.data.type = "ORTHO"
+    cam.data.ortho_scale = 100.0
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere") == {"FINISHED"}
+    bpy.context.view_layer.update()
+    seen = in_frame(cam, tree.preview_object)
+    assert (seen[:, :2] > 0).all() and (seen[:, :2] < 1).all() and 0.80 < np.ptp(seen[:, 1]) < 0.88
+    # no scene camera: one is made, looking at the model
+    sc.camera = None
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere") == {"FINISHED"}
+    bpy.context.view_layer.update()
+    assert sc.camera is not None and sc.camera is not cam and sc.camera.type == "CAMERA"
+    assert jobs.off_camera(sc, tree) is None
+    # a camera whose keys (or constraints) put it back is framed, and the report says so
+    fc = import_module(f"{ext.__name__}.operators.frame_camera")
+    assert fc.held_by(sc.camera) == ""
+    sc.camera.keyframe_insert("location")
+    sc.camera.constraints.new("TRACK_TO")
+    assert fc.held_by(sc.camera) == "animation and constraints"
+    # a tree that does not compile: said, the camera left where it is
+    before = sc.camera.matrix_world.copy()
+    [n for n in tree.nodes if hasattr(n, "radius")][0].radius = 0.0
+    with pytest.raises(RuntimeError, match="Radius must be > 0"):
+        bpy.ops.blobtree_ink.frame_camera(tree_name="sphere")
+    assert sc.camera.matrix_world == before
+    with pytest.raises(RuntimeError, match="no BlobTree node tree named 'nope'"):
+        bpy.ops.blobtree_ink.frame_camera(tree_name="nope")
