@@ -177,7 +177,7 @@ def _draw_last_run(layout, tree):
     else:
         col.label(text=f"Last run: {state}")
     if state in ("done", "stopped") and changed_since(last_run):
-        col.label(text="The ink has changed since (undone or edited)", icon="INFO")
+        col.label(text="Undone or edited since", icon="INFO")
         return
     col.label(text=f"Strokes: {last_run.get('strokes', 0)}")
     if last_run.get("iterations"):

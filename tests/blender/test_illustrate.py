@@ -161,7 +161,7 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     # the sidebar's figures are the run's, no longer the ink's: it says so, not the old count
     run = Layout()
     panels._draw_last_run(run, tree)
-    assert [i["text"] for i in run.of("label")] == ["Last run: done", "The ink has changed since (undone or edited)"]
+    assert [i["text"] for i in run.of("label")] == ["Last run: done", "Undone or edited since"]
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
     run = Layout()
     panels._draw_last_run(run, tree)
