@@ -7,7 +7,7 @@ import json
 import bpy
 import numpy as np
 
-from ..pipeline.framing import LENS, SENSOR
+from ..pipeline.framing import LENS, SENSOR, crop
 
 CAMERA, LIGHT = "BlobTree Ink Camera", "BlobTree Ink Light"
 PAPER_WORLD = "BlobTree Ink Paper"
@@ -113,6 +113,20 @@ def setup(scene, centre, eye, size, light_dir):
     paper(scene)
     bpy.context.view_layer.update()              # the objects' world matrices, read by the job
     return cam, light
+
+
+def crop_camera(scene, cam, points):
+    """Cut the camera's view closer about ``points`` (n, 3) in the scene (the drawing),
+    from where it is: a longer lens and a lens shift, so the drawing fills the render's
+    frame with the framing margin and looks exactly as it did, only larger."""
+    r = scene.render
+    aspect = (r.resolution_x * r.pixel_aspect_x) / (r.resolution_y * r.pixel_aspect_y)
+    m = cam.matrix_world
+    tan_half, sx, sy = crop(np.array(m.to_3x3().normalized(), float), np.array(m.translation, float), points, aspect)
+    data = cam.data
+    data.sensor_fit = "AUTO"
+    data.lens = data.sensor_width / (2 * tan_half)
+    data.shift_x, data.shift_y = sx, sy
 
 
 def look_rotation(direction):

@@ -64,6 +64,24 @@ def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, s
     return np.asarray(centre, float) + dist * d
 
 
+def crop(axes, eye, points, aspect=1.0, margin=MARGIN):
+    """The crop of a camera at ``eye`` (its ``axes``: the columns right, up, backwards)
+    that holds ``points`` with ``margin`` about them, the same view cut closer: the
+    tangent of the half-angle of the frame's longer side (a render ``aspect`` wide per
+    unit of height), and the shift of the frame's centre in units of that side
+    (Blender's lens shift), (tan_half, shift_x, shift_y)."""
+    rel = (np.asarray(points, float).reshape(-1, 3) - np.asarray(eye, float)) @ np.asarray(axes, float)
+    depth = -rel[:, 2]
+    if not len(rel) or not (depth > 0).all():
+        raise ValueError("a crop frames points in front of the camera, and at least one")
+    uv = rel[:, :2] / depth[:, None]                          # on the image plane one unit ahead
+    lo, hi = uv.min(0), uv.max(0)
+    centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    wide = max(half[0], half[1] * aspect) if aspect >= 1 else max(half[1], half[0] / aspect)
+    tan_half = margin * max(float(wide), 1e-9)
+    return tan_half, float(centre[0]) / (2 * tan_half), float(centre[1]) / (2 * tan_half)
+
+
 def view_eye(view, centre, radius):
     """The eye a job's view gives (its own; without one, the three-quarter view)."""
     return np.asarray(view.eye if view is not None else three_quarter_eye(centre, radius), float)

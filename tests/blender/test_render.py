@@ -100,8 +100,12 @@ def test_render_command_writes_png_blend_and_svg(ext, example, tmp_path):
     px = pixels(png)
     assert px.shape[:2] == (768, 768)
     assert np.median(px) > 0.95                     # white paper
-    dark = (px.mean(axis=2) < 0.6).mean()
-    assert 0.002 < dark < 0.2                       # ink lines, not a blank or a black image
+    ink = px.mean(axis=2) < 0.6
+    assert 0.002 < ink.mean() < 0.2                 # ink lines, not a blank or a black image
+    # the camera is cut close about the drawing: it fills the frame, with a margin all round
+    rows, cols = np.flatnonzero(ink.any(axis=1)), np.flatnonzero(ink.any(axis=0))
+    spans = np.array([rows[-1] - rows[0], cols[-1] - cols[0]]) / 768
+    assert spans.max() > 0.8 and min(rows[0], cols[0], 767 - rows[-1], 767 - cols[-1]) > 10, (rows, cols)
     root = ET.parse(svg).getroot()
     paths = [e for e in root.iter() if e.tag.endswith(("path", "polyline", "polygon"))]
     bpy.ops.wm.open_mainfile(filepath=str(blend))

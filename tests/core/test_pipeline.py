@@ -210,3 +210,24 @@ def test_two_eyes_see_the_model_alike_when_close_in_direction_and_distance():
     assert not FR.same_view(eye(0), eye(0, 10.0 * (1 + 1.1 * FR.VIEW_DISTANCE)), centre)
     assert not FR.same_view(eye(0), eye(180), centre)
     assert FR.same_view(centre, centre, centre) and not FR.same_view(centre, eye(0), centre)
+
+
+def test_a_crop_cuts_the_same_view_closer_about_the_points():
+    """framing.crop: from a camera at the eye (its axes right, up, backwards), the lens
+    (the tangent of the longer side's half-angle) and shift that frame the points with
+    the margin, centred; a wide render frames them by their height when it must."""
+    from blobtree_ink.pipeline import framing as FR
+    axes = np.eye(3)                                             # looking down -z, up +y
+    pts = np.array([[1.0, -1.0, -10.0], [3.0, 1.0, -10.0], [2.0, 0.0, -10.0]])
+    tan_half, sx, sy = FR.crop(axes, np.zeros(3), pts)
+    assert tan_half == pytest.approx(FR.MARGIN * 0.1)            # the points span 0.1..0.3 and -0.1..0.1
+    assert sx == pytest.approx(0.2 / (2 * tan_half)) and sy == pytest.approx(0.0)
+    # in the frame so cut, every point lies within 1/MARGIN of the centre's half-width
+    uv = pts[:, :2] / 10.0 - 2 * tan_half * np.array([sx, sy])
+    assert np.abs(uv).max() == pytest.approx(tan_half / FR.MARGIN)
+    wide, _, _ = FR.crop(axes, np.zeros(3), pts, aspect=2.0)      # twice as wide: the height decides
+    assert wide == pytest.approx(FR.MARGIN * 0.2)
+    tall, _, _ = FR.crop(axes, np.zeros(3), pts, aspect=0.5)      # twice as tall: the width decides
+    assert tall == pytest.approx(FR.MARGIN * 0.2)
+    with pytest.raises(ValueError, match="in front of the camera"):
+        FR.crop(axes, np.zeros(3), pts * np.array([1, 1, -1]))
