@@ -71,7 +71,7 @@ def direction_field(kind, axis=None, eye=None):
             # changing places near an umbilic within a step): go on
             across = np.abs(np.einsum("ij,ij->i", d, v)) < np.cos(TURN) * np.linalg.norm(v, axis=1)
             keep = (isotropic(c) | across) & moving
-            d[keep] = v[keep]
+            d[keep] = st.unit(v[keep])            # a direction as strong as a principal one
             return d
         return principal
     if kind in ("axis", "level"):
@@ -85,7 +85,7 @@ def direction_field(kind, axis=None, eye=None):
             raise ValueError("the contour flow field needs the eye position")
         return lambda P, N, c: st.contour_field(N, st.unit(np.asarray(eye, float) - P))
     if kind == "straight":
-        return lambda P, N, c: np.asarray(c["velocity"])
+        return lambda P, N, c: st.unit(np.asarray(c["velocity"], float))
     raise ValueError(f"unknown flow field {kind!r}; one of {', '.join(FIELDS)}")
 
 

@@ -277,3 +277,35 @@ def test_a_start_that_does_not_reach_the_surface_draws_nothing():
                  sm.StrokeRules(max_steps=5), keys(2))
     assert len(res.paths[0]) > 3 and res.paths[1].shape == (0, 3) and res.reasons[1] == "lost surface"
     assert np.abs(ev.field(res.paths[0]) - 0.5).max() < 1e-6
+
+
+def test_a_kept_heading_steers_as_strongly_as_a_principal_direction():
+    """Where the principal directions mean nothing (or swap), and in the "straight"
+    field, the flow is the unit heading, whatever the smarticle's speed: a flock's
+    wander and alignment then bend its strokes as they do elsewhere, instead of
+    swamping a flow as short as one step (strokes that zigzag)."""
+    P = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    N = P.copy()
+    V = 0.01 * np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0]])         # across the axis (dir1 runs along it)
+    c = {"velocity": V, "k1": np.array([1.0, 0.5]), "k2": np.array([0.0, 0.5]),
+         "dir1": np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), "dir2": np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0]])}
+    d = layers.direction_field("dir1")(P, N, c)
+    np.testing.assert_allclose(d, [[0, 0, 1.0], [0, 1.0, 0]])      # across: the heading kept; isotropic: too
+    np.testing.assert_allclose(layers.direction_field("straight")(P, N, c), [[0, 0, 1.0], [0, 1.0, 0]])
+    assert not np.any(layers.direction_field("straight")(P, N, dict(c, velocity=np.zeros((2, 3)))))
+
+
+def test_flocked_hatching_turns_smoothly(load_example):
+    """The flocked style's strokes on the jug turn less than 60 degrees from one step to
+    the next (a flock's wander and alignment against a kept heading of one step's
+    length made one in twenty turns sharper than that, and one in fifty turn back)."""
+    from blobtree_ink import pipeline as PL
+    from helpers import job_for
+    result = PL.Illustration(job_for(load_example, "jug", "flocked", res=14)).run()
+    turns = []
+    for s in result.strokes.layers["Hatching"]:
+        d = np.diff(s.points, axis=0)
+        d /= np.linalg.norm(d, axis=1, keepdims=True)
+        turns.append(np.degrees(np.arccos(np.clip(np.einsum("ij,ij->i", d[1:], d[:-1]), -1, 1))))
+    turns = np.concatenate(turns)
+    assert len(turns) > 1000 and turns.max() < 60, np.sort(turns)[-10:]
