@@ -11,7 +11,7 @@ import numpy as np
 from mathutils import Vector
 
 from ..blackboard.polygonise import GridError, polygonise, surface_box
-from ..model import Evaluator
+from ..model import Evaluator, fingerprint
 from . import changes, handlers
 from .compile import tree_model_or_none
 from .idnames import TREE
@@ -19,6 +19,7 @@ from .idnames import TREE
 COLLECTION = "BlobTree Ink"
 PAPER_MATERIAL = "BlobTree Ink Paper Mesh"
 stats = {"rebuilds": 0}          # for tests and the UI
+built = {}                       # tree name -> the key (model.fingerprint) of the model its preview shows
 
 
 def rebuild(tree):
@@ -38,6 +39,7 @@ def rebuild(tree):
     obj = _preview_object(tree)
     write_mesh(obj.data, mesh.vertices, mesh.quads)
     paper_look(tree)
+    built[tree.name] = fingerprint(model)
     stats["rebuilds"] += 1
     return True
 

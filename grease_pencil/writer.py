@@ -89,7 +89,8 @@ def _frame(layer, number):
 def write(obj, result, frame=1):
     """Write a pipeline Result on ``frame``: its owned layers replaced (the stroke layers'
     strokes in its region only, when it has one), its appended ones added to, the others
-    untouched; the layers written remember the eye they were drawn for (grease_pencil.views)."""
+    untouched; the layers written remember the eye and the model they were drawn for
+    (grease_pencil.views)."""
     for name in result.owned:
         region = result.region if name in STROKE_LAYERS else None
         write_layer(obj, name, result.strokes.layers.get(name, []), frame,
@@ -97,9 +98,10 @@ def write(obj, result, frame=1):
     for name in result.appended:
         write_layer(obj, name, result.strokes.layers.get(name, []), frame, keep=lambda P: np.ones(len(P), bool))
     whole = [n for n in result.owned if result.region is None or n not in STROKE_LAYERS]
-    views.record(obj, whole, frame, result.eye, result.centre)
-    views.record(obj, [n for n in result.owned if n not in whole], frame, result.eye, result.centre, result.region)
-    views.record(obj, result.appended, frame, result.eye, result.centre, region=True)
+    views.record(obj, whole, frame, result.eye, result.centre, model=result.model)
+    views.record(obj, [n for n in result.owned if n not in whole], frame, result.eye, result.centre, result.region,
+                 model=result.model)
+    views.record(obj, result.appended, frame, result.eye, result.centre, region=True, model=result.model)
     return obj
 
 

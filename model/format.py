@@ -5,6 +5,7 @@ overflow the stack; every error names the node's path from the root, e.g.
 ``root.children[3].radius: must be > 0, got -1``. Nothing is half-loaded: either a
 complete :class:`Model` comes back or :class:`ModelError` is raised.
 """
+import hashlib
 import json
 import math
 
@@ -310,6 +311,18 @@ def _is_default(k, v):
         return False
     dv = _DEFAULTS[k]
     return tuple(float(x) for x in v) == dv if isinstance(dv, tuple) else float(v) == dv
+
+
+def fingerprint(model):
+    """A short key of what a model's surface depends on: the sha1 of its canonical
+    document without names (the model's or its nodes'), so two models with one key
+    draw alike, and an edit of any value gives another."""
+    def bare(v):
+        if isinstance(v, dict):
+            return {k: bare(x) for k, x in v.items() if k != "name"}
+        return [bare(x) for x in v] if isinstance(v, list) else v
+    text = json.dumps(bare(to_dict(model)), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha1(text.encode("utf-8")).hexdigest()[:16]
 
 
 def dumps(model, indent=1):

@@ -19,7 +19,7 @@ from .common import context_tree
 
 
 class BLOBTREE_INK_OT_frame_camera(bpy.types.Operator):
-    """Move the scene camera along its line of sight until it frames the BlobTree's model (without a scene camera, make one)"""
+    """Move the scene camera along its line of sight until it frames the BlobTree's model (or make one)"""
     bl_idname = "blobtree_ink.frame_camera"
     bl_label = "Frame Camera"
     bl_options = {"REGISTER", "UNDO"}

@@ -12,7 +12,9 @@ from ..blobtree_nodes import preview
 from ..blobtree_nodes.base import shown_name
 from ..blobtree_nodes.compile import compile_tree, in_no_scene
 from ..blobtree_nodes.settings import style_of
+from ..grease_pencil import views
 from ..grease_pencil.writer import ink_object, write
+from ..model import Evaluator
 from ..strokes.data import LAYER_OF_KIND
 from . import jobs
 from .common import ink_name
@@ -40,6 +42,19 @@ def frame_job(tree, scene, depsgraph=None):
     job = jobs.job(model, scene, style_of(ink), jobs.tree_settings(ink), look_requests(tree), ink.seed,
                    inverse=place.inverted_safe(), depsgraph=depsgraph)
     return job, place
+
+
+def holds(tree, job, frame):
+    """Whether the tree's ink shows on ``frame`` (held from an earlier key if need be)
+    a drawing of every layer the frame's ``job`` draws, made for its model and its view:
+    a render can use it as it is. The model's key is asked first; its bounds (for the
+    view) only when that fits."""
+    obj = bpy.data.objects.get(ink_name(tree))
+    layers = job.owned_layers()
+    if obj is None or not views.made_for(obj, layers, frame, jobs.model_key(job)):
+        return False
+    centre, radius = PL.bounds(job.model if isinstance(job.model, Evaluator) else Evaluator(job.model))
+    return views.seen_alike(obj, layers, frame, PL.view_eye(job.view, centre, radius), centre)
 
 
 def write_frame(tree, result, frame, rendered=False):

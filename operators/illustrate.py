@@ -122,14 +122,14 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink),
                        self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse)
         obj, frame = bpy.data.objects.get(ink_name(tree)), context.scene.frame_current
-        self.unfit = []                 # the layers a look clears once done: drawn for another viewpoint
-        if obj is not None:             # what is drawn already, and for which viewpoint
+        self.unfit = {}                 # the layers a look clears once done: drawn for another viewpoint or model
+        if obj is not None:             # what is drawn already, and for which viewpoint and model
             look = self.preset != NO_PRESET
             elsewhere = jobs.drawn_elsewhere(obj, job, frame, *framing())
             if look and self.preset != "OUTLINES" and not job.wants_outline_layers() \
                     and set(jobs.traced_layers(job)) & set(elsewhere):
                 job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
-                elsewhere = [n for n in elsewhere if n not in job.owned_layers()]
+                elsewhere = {n: w for n, w in elsewhere.items() if n not in job.owned_layers()}
             if look:
                 self.unfit = elsewhere
             else:
@@ -154,14 +154,13 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
 
     def _clear_unfit(self):
         """A look that ran to its end is one drawing: the layers it left that were drawn
-        for another viewpoint are cleared (said in the report; Ctrl+Z brings them back)."""
+        for another viewpoint or model are cleared (said in the report; Ctrl+Z brings
+        them back)."""
         if self.unfit:
             obj = ink_object(self.obj_name)
             for name in self.unfit:
                 write_layer(obj, name, [], frame=self.frame)
-            them = "it" if len(self.unfit) == 1 else "them"
-            self.notes.append(f"{', '.join(self.unfit)} cleared: drawn for another viewpoint (Ctrl+Z brings "
-                              f"{them} back)")
+            self.notes.append(jobs.cleared_note(self.unfit))
 
     def _figures(self, progress):
         last_run.update(iterations=progress.iterations, outline_length=progress.outline_length,

@@ -2,7 +2,7 @@
 illustrates): the eye from the scene camera or the viewport, the light from the scene's
 lights, a request's region from the selection or the 3D cursor, the style and settings
 from the tree; which layers of the ink a job leaves were drawn for another
-viewpoint. The operators and the command line build their jobs here, so the same
+viewpoint or model. The operators and the command line build their jobs here, so the same
 scene gives the same job whichever path draws."""
 import numpy as np
 from mathutils import Matrix, Vector
@@ -12,6 +12,7 @@ from ..agents import Region, Settings
 from ..blackboard.board import FEATURE_KINDS
 from ..blackboard.view import View
 from ..grease_pencil import views
+from ..model import Evaluator, fingerprint
 from ..pipeline.job import SINGLE_LAYER, STYLE_LAYERS
 from ..strokes.data import LAYER_OF_KIND, LAYERS
 
@@ -168,13 +169,20 @@ def tree_settings(ink):
 
 
 def drawn_elsewhere(obj, job, frame, centre, radius):
-    """The layers of the ink object ``obj`` shown on ``frame`` that ``job`` leaves as
-    they are but that were drawn for an eye that does not see the model as the job's
-    does (the model's ``centre`` and ``radius`` place its three-quarter eye, without a
-    view). The single strokes are the artist's own, from wherever they were drawn."""
+    """{layer: why} of the layers of the ink object ``obj`` shown on ``frame`` that
+    ``job`` leaves as they are but that were drawn for another model than the job's
+    (views.MODEL), or for an eye that does not see the model as the job's does
+    (views.VIEWPOINT; the model's ``centre`` and ``radius`` place its three-quarter eye,
+    without a view). The single strokes are the artist's own, from wherever they were
+    drawn."""
     eye = PL.view_eye(job.view, centre, radius)
     mine = set(job.owned_layers()) | set(job.appended_layers()) | {SINGLE_LAYER}
-    return views.seen_from_elsewhere(obj, [n for n in LAYERS if n not in mine], frame, eye, centre)
+    return views.unfit(obj, [n for n in LAYERS if n not in mine], frame, eye, centre, model_key(job))
+
+
+def model_key(job):
+    """The key (model.fingerprint) of a job's model, as its result records it."""
+    return fingerprint(job.model.model if isinstance(job.model, Evaluator) else job.model)
 
 
 def traced_layers(job):
@@ -182,17 +190,37 @@ def traced_layers(job):
     return [LAYER_OF_KIND[k] for k in job.settings.kinds]
 
 
-def elsewhere_note(layers, job):
-    """What a run says of the layers it left that were drawn for another viewpoint:
-    which request draws them for this one, or, for a layer the settings or the style
-    no longer draw, that Ink Layers clears it (None when there are none)."""
+WHY = {views.VIEWPOINT: ("drawn for another viewpoint", "for this one"),
+       views.MODEL: ("drawn before the model changed", "again")}
+
+
+def elsewhere_note(unfit, job):
+    """What a run says of the layers it left that were drawn for another viewpoint or
+    model (``unfit``: {layer: why}): which request draws them for this one, or, for a
+    layer the settings or the style no longer draw, that Ink Layers clears it (None
+    when there are none)."""
     placed = [STYLE_LAYERS[k] for k in job.style.stroke_switches()]
     say = []
-    for names, what in (([n for n in layers if n in traced_layers(job)], "Trace Feature Outlines draws {} for this one"),
-                        ([n for n in layers if n in placed], "Place Strokes draws {} for this one"),
-                        ([n for n in layers if n not in traced_layers(job) and n not in placed],
-                         "switched off, Ink Layers clears {}")):
+    for why, (drawn, redrawn) in WHY.items():
+        layers = [n for n, w in unfit.items() if w == why]
+        traced = [n for n in layers if n in traced_layers(job)]
+        for names, what in ((traced, f"Trace Feature Outlines draws {{}} {redrawn}"),
+                            ([n for n in layers if n in placed], f"Place Strokes draws {{}} {redrawn}"),
+                            ([n for n in layers if n not in traced_layers(job) and n not in placed],
+                             "switched off, Ink Layers clears {}")):
+            if names:
+                them = "it" if len(names) == 1 else "them"
+                say.append(f"{', '.join(names)} {drawn}: {what.format(them)}")
+    return "; ".join(say) or None
+
+
+def cleared_note(unfit):
+    """What a look says of the layers it cleared (``unfit``: {layer: why}, as
+    :func:`elsewhere_note`'s), or None."""
+    say = []
+    for why, (drawn, _) in WHY.items():
+        names = [n for n, w in unfit.items() if w == why]
         if names:
             them = "it" if len(names) == 1 else "them"
-            say.append(f"{', '.join(names)} drawn for another viewpoint: {what.format(them)}")
+            say.append(f"{', '.join(names)} cleared: {drawn} (Ctrl+Z brings {them} back)")
     return "; ".join(say) or None

@@ -5,11 +5,13 @@ row each, and the latest run's figures."""
 import bpy
 
 from ..blackboard.board import FEATURE_KINDS
-from ..blobtree_nodes import wrap
+from ..blobtree_nodes import preview, wrap
 from ..blobtree_nodes.base import SHOW_ERROR, draw_error, shown_name
 from ..blobtree_nodes.compile import output_nodes
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
+from ..grease_pencil import views
+from ..strokes.data import LAYERS
 from . import frames as FR
 from .common import TREE, active_tree, blobtrees, focus, ink_name
 from .illustrate import REQUESTS, last_run
@@ -57,6 +59,23 @@ def _draw_errors(layout, context, tree):
         op.tree_name, op.node_name, op.frame = tree.name, n.name, True
         if i < SHOWN_ERRORS:
             draw_error(col, context, n, width)
+
+
+STALE = "The ink was drawn before the model changed: a Look draws it again"
+
+
+def _draw_stale(layout, context, tree):
+    """Say so when the ink shown on this frame was drawn for another model than the
+    one the preview shows (an edit, a moved object the tree follows, another frame of
+    an animation)."""
+    obj, key = bpy.data.objects.get(ink_name(tree)), preview.built.get(tree.name)
+    if obj is None or obj.type != "GREASEPENCIL" or key is None or \
+            not views.other_model(obj, LAYERS, context.scene.frame_current, key):
+        return
+    col = layout.column(align=True)
+    col.alert = True
+    for i, line in enumerate(wrap.lines(STALE, wrap.region_text_width(context, context.region.width), context)):
+        col.label(text=line, icon="INFO" if i == 0 else "BLANK1")
 
 
 def _draw_tree(layout, tree):
@@ -210,6 +229,7 @@ class VIEW3D_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
             return
         self.layout.label(text=tree.name, icon="META_BALL")
         _draw_errors(self.layout, context, tree)
+        _draw_stale(self.layout, context, tree)
         _draw_tree(self.layout, tree)
         _draw_others(self.layout, tree)
         _draw_last_run(self.layout, tree)

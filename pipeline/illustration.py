@@ -25,7 +25,7 @@ from numpy.random import default_rng    # numpy imports it lazily: here, not in 
 
 from ..agents import Session
 from ..blackboard.view import View
-from ..model import Evaluator
+from ..model import Evaluator, fingerprint
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from ..strokes.stipples import Spacing
@@ -72,6 +72,7 @@ class Result:
                                # their strokes there are replaced
     eye: np.ndarray = None     # the eye it was drawn for and the model's centre (model coordinates),
     centre: np.ndarray = None  # once known (framing.same_view)
+    model: str = None          # the model's key (model.fingerprint), once known
 
 
 class Illustration:
@@ -190,6 +191,8 @@ class Illustration:
             self.ev = prev.ev                  # the last frame's model: its plan, size and marks as made
         else:
             self.ev = Evaluator(j.model)
+        if "fingerprint" not in self.ev.memo:          # (the plan's: made once per evaluator)
+            self.ev.memo["fingerprint"] = fingerprint(self.ev.model)
         centre, radius = bounds(self.ev)
         self.centre = centre
         self.eye = view_eye(j.view, centre, radius)
@@ -380,7 +383,8 @@ class Illustration:
             out.layers[name] = list(strokes)
         return Result(out, owned, j.appended_layers(), self.progress(), list(self.warnings),
                       done=self.finished and not self.stopping, stopped=self.stopping, region=self._region(),
-                      eye=self.eye, centre=self.centre)
+                      eye=self.eye, centre=self.centre,
+                      model=None if self.ev is None else self.ev.memo["fingerprint"])
 
     def _owned_now(self):
         """The layers the result replaces now: those of the stages begun (a stopped run

@@ -225,3 +225,31 @@ def test_an_animation_render_illustrates_each_frame_as_the_bake_does(ext, exampl
             assert len(baked[layer]) == len(rendered[f][layer])
             assert all(np.allclose(x, y, atol=1e-6) for x, y in zip(baked[layer], rendered[f][layer]))
     assert mod(ext, "operators.frames").rendered_frames(tree) == set()    # baked now: kept by the next render
+
+
+def test_a_render_uses_a_drawing_held_over_while_it_fits_the_frames_model_and_view(ext, example, tmp_path):
+    """A still model drawn once at frame 1: a render of frame 6 uses that drawing as it
+    is (no new drawing written); once the model changes, or the camera moves, the render
+    illustrates frame 6 for what it then is."""
+    from aimed_camera import aimed_camera
+    R = mod(ext, "operators.render_frames")
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
+    tree, sc = bpy.data.node_groups["pear"], bpy.context.scene
+    tree.ink.grid_resolution = 12
+    cam = aimed_camera((0.0, -9.0, 2.0), (0.0, 0.0, 0.5))
+    sc.render.engine = "BLENDER_WORKBENCH"
+    sc.render.resolution_x = sc.render.resolution_y = 64
+    sc.frame_set(1)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
+
+    def render(frame):
+        sc.frame_set(frame)
+        before = len(R.drawn)
+        bpy.ops.render.render(write_still=False)
+        return [f for t, f in R.drawn[before:] if t == "pear"]
+    assert render(6) == [] and mod(ext, "operators.frames").drawn_frames(tree) == {1}
+    [n for n in tree.nodes if n.label == "belly"][0].radius *= 1.1       # the model changes
+    assert render(6) == [6] and render(6) == []                          # drawn once, then used
+    cam.location.x += 3.0                                                # the camera moves
+    bpy.context.view_layer.update()
+    assert render(6) == [6]

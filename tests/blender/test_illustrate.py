@@ -279,14 +279,62 @@ def test_a_layer_redrawn_in_a_region_for_another_viewpoint_is_mixed(ext, example
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
     obj = bpy.data.objects["pear Ink"]
     eye, centre = np.array(obj[views.KEY]["Hatching@1"][:3]), np.zeros(3)
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, eye, centre) == []
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 7, eye, centre) == []          # frame 1's drawing, held
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 7, -eye, centre) == ["Hatching"]
+    assert views.unfit(obj, ["Hatching"], 1, eye, centre) == {}
+    assert views.unfit(obj, ["Hatching"], 7, eye, centre) == {}          # frame 1's drawing, held
+    assert views.unfit(obj, ["Hatching"], 7, -eye, centre) == {"Hatching": views.VIEWPOINT}
     views.record(obj, ["Hatching"], 1, eye, centre, region="a region")                # the same eye: still its own
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, eye, centre) == []
+    assert views.unfit(obj, ["Hatching"], 1, eye, centre) == {}
     views.record(obj, ["Hatching"], 1, -eye, centre, region="a region")
     assert obj[views.KEY]["Hatching@1"] == views.MIXED
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, eye, centre) == ["Hatching"]
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, -eye, centre) == ["Hatching"]
+    assert views.unfit(obj, ["Hatching"], 1, eye, centre) == {"Hatching": views.VIEWPOINT}
+    assert views.unfit(obj, ["Hatching"], 1, -eye, centre) == {"Hatching": views.VIEWPOINT}
     views.record(obj, ["Hatching"], 1, -eye, centre)                                  # redrawn whole
-    assert views.seen_from_elsewhere(obj, ["Hatching"], 1, -eye, centre) == []
+    assert views.unfit(obj, ["Hatching"], 1, -eye, centre) == {}
+
+
+def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, example):
+    """Each layer remembers the model it was drawn for (model.fingerprint): after an
+    edit the sidebar says the ink is out of date; a Look traces the outlines again and
+    clears the layers it does not draw; a request names those it leaves."""
+    from types import SimpleNamespace
+
+    from recording_layout import Layout
+    views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
+    panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
+    preview = __import__(f"{ext.__name__}.blobtree_nodes.preview", fromlist=["x"])
+    run = __import__(f"{ext.__name__}.operators.illustrate", fromlist=["x"]).last_run
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    tree = bpy.data.node_groups["pear"]
+    tree.ink.grid_resolution = 12
+    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
+                              preferences=bpy.context.preferences)
+
+    def stale():
+        rec = Layout()
+        panels._draw_stale(rec, context, tree)
+        return " ".join(i["text"] for i in rec.of("label"))
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
+    obj = bpy.data.objects["pear Ink"]
+    before = obj[views.MODELS]["Silhouette@1"]
+    assert obj[views.MODELS]["Stipples@1"] == before == preview.built["pear"] and stale() == ""
+    belly = [n for n in tree.nodes if n.label == "belly"][0]
+    belly.radius *= 1.15                                      # the artist makes the pear fatter
+    preview.rebuild(tree)                                     # (in the UI, a timer does so after the edit)
+    assert preview.built["pear"] != before
+    assert stale().replace("  ", " ") == panels.STALE.replace("  ", " ")
+    # a request leaves the outlines and says so
+    tree.ink.stipples, tree.ink.hatching = False, True
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
+    assert run["warnings"] == ["Silhouette, Crease drawn before the model changed: Trace Feature Outlines draws them "
+                               "again; Stipples drawn before the model changed: switched off, Ink Layers clears it"]
+    # a look traces them again, and clears the stipples it does not draw (Ctrl+Z brings them back)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
+    assert run["iterations"] > 0 and ink("pear")["Stipples"] == [] and ink("pear")["Silhouette"]
+    assert run["warnings"] == ["Stipples cleared: drawn before the model changed (Ctrl+Z brings it back)"]
+    now = obj[views.MODELS]
+    assert now["Silhouette@1"] == now["Hatching@1"] == preview.built["pear"] and stale() == ""
+    # the outlines now fit the fatter pear: every silhouette point lies on its surface
+    model = __import__(f"{ext.__name__}.blobtree_nodes.compile", fromlist=["x"]).compile_tree(tree)
+    ev = __import__(f"{ext.__name__}.model", fromlist=["x"]).Evaluator(model)
+    P = np.concatenate([np.array([p.position for p in s.points]) for s in ink("pear")["Silhouette"]])
+    assert np.abs(ev.field(P) - ev.iso).max() < 1e-3

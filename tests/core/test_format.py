@@ -176,3 +176,20 @@ def test_lengths_whose_squares_underflow_are_rejected():
     assert "root.rate: must be 0 or at least 1e-09 in size" in err(doc({"type": "bend", "rate": 5e-324, "child": PT}))
     assert M.from_dict(doc({"type": "bend", "rate": 0, "child": PT})).root.rate == 0
     assert M.from_dict(doc(dict(PT, radius=1e-9))).root.radius == 1e-9      # the limit itself loads
+
+
+def test_a_fingerprint_tells_models_apart_by_their_surface_not_their_names():
+    """model.fingerprint: one key for models that draw alike (names of the model and
+    its nodes aside), another after any change of a value."""
+    from blobtree_ink.model import fingerprint
+    doc = {"format": "blobtree-1", "name": "a", "root": {"type": "blend", "name": "body", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.0},
+        {"type": "segment", "a": [0, 0, 0], "b": [1, 0, 0], "radius": 0.5}]}}
+    key = fingerprint(M.from_dict(doc))
+    assert len(key) == 16 and key == fingerprint(M.from_dict(doc))
+    renamed = dict(doc, name="b", root=dict(doc["root"], name="torso"))
+    assert fingerprint(M.from_dict(renamed)) == key
+    moved = json.loads(json.dumps(doc))
+    moved["root"]["children"][1]["b"] = [1, 0, 1e-9]
+    assert fingerprint(M.from_dict(moved)) != key
+    assert fingerprint(M.from_dict(dict(doc, iso=0.4))) != key
