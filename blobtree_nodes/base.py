@@ -51,9 +51,10 @@ class BlobTreeNode:
         return ntree.bl_idname == TREE
 
     def draw_buttons(self, context, layout):
+        # the error below the values: one that comes or goes moves no field under the pointer
+        self.draw_props(context, layout)
         if self.error:
             draw_error(layout, context, self, wrap.node_text_width(context, self.width))
-        self.draw_props(context, layout)
 
     def draw_buttons_ext(self, context, layout):
         # the sidebar: its Errors panel shows the error at the sidebar's width

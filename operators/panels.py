@@ -78,7 +78,10 @@ def _draw_stale(layout, context, tree):
         col.label(text=line, icon="INFO" if i == 0 else "BLANK1")
 
 
-def _draw_tree(layout, tree):
+def _draw_tree(layout, context, tree):
+    """The requests and looks, then what keeps the tree from being drawn or the ink
+    from fitting it (below them, so a message that comes or goes does not move the
+    buttons under the artist's pointer), then the settings."""
     col = layout.column(align=True)
     for ident, label, _ in REQUESTS:
         op = col.operator("blobtree_ink.illustrate", text=label, icon=REQUEST_ICONS[ident])
@@ -88,6 +91,8 @@ def _draw_tree(layout, tree):
     for key in PRESETS:
         op = grid.operator("blobtree_ink.illustrate", text=key.replace("_", " ").title())
         op.tree_name, op.preset, op.request = tree.name, key, "PLACE_STROKES"
+    _draw_errors(layout, context, tree)
+    _draw_stale(layout, context, tree)
     s = tree.ink
     layout.label(text="Lines to trace")
     grid = layout.grid_flow(row_major=True, columns=2, even_columns=True, align=True)   # the lines, two a row
@@ -228,9 +233,7 @@ class VIEW3D_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
             self.layout.operator("blobtree_ink.import_json", icon="IMPORT")
             return
         self.layout.label(text=tree.name, icon="META_BALL")
-        _draw_errors(self.layout, context, tree)
-        _draw_stale(self.layout, context, tree)
-        _draw_tree(self.layout, tree)
+        _draw_tree(self.layout, context, tree)
         _draw_others(self.layout, tree)
         _draw_last_run(self.layout, tree)
 
@@ -246,8 +249,7 @@ class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
 
     def draw(self, context):
         focus(context.space_data.node_tree)
-        _draw_errors(self.layout, context, context.space_data.node_tree)
-        _draw_tree(self.layout, context.space_data.node_tree)
+        _draw_tree(self.layout, context, context.space_data.node_tree)
         _draw_last_run(self.layout, context.space_data.node_tree)
 
 

@@ -338,3 +338,44 @@ def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, e
     ev = __import__(f"{ext.__name__}.model", fromlist=["x"]).Evaluator(model)
     P = np.concatenate([np.array([p.position for p in s.points]) for s in ink("pear")["Silhouette"]])
     assert np.abs(ev.field(P) - ev.iso).max() < 1e-3
+
+
+def test_a_tree_error_in_the_sidebar_moves_no_request_or_look_button(ext, example):
+    """The sidebar's requests and looks come first, and a tree's error below them: an
+    error that appears while the artist reaches for a look leaves the look where it was
+    (the settings below move instead). In a node, the error comes below its values."""
+    from types import SimpleNamespace
+
+    from recording_layout import Layout
+    panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
+    preview = __import__(f"{ext.__name__}.blobtree_nodes.preview", fromlist=["x"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    tree = bpy.data.node_groups["pear"]
+    context = SimpleNamespace(space_data=None, active_object=tree.preview_object, region=SimpleNamespace(width=300),
+                              preferences=bpy.context.preferences, scene=bpy.context.scene)
+
+    def sidebar():
+        rec = Layout()
+        panels.VIEW3D_PT_blobtree_ink.draw(SimpleNamespace(layout=rec), context)
+        return [(i["kind"], i.get("idname"), i.get("text")) for i in rec.items if i["kind"] in ("label", "operator")]
+    fine = sidebar()
+    belly = [n for n in tree.nodes if n.label == "belly"][0]
+    node_context = SimpleNamespace(region=SimpleNamespace(width=300), preferences=bpy.context.preferences)
+
+    def node():
+        rec = Layout()
+        belly.draw_buttons(node_context, rec)
+        return [(i["kind"], i.get("prop") or i.get("text")) for i in rec.items if i["kind"] in ("prop", "label")]
+    values = node()
+    belly.radius = 0.0
+    assert not preview.rebuild(tree) and belly.error            # the node's error is marked
+    broken = sidebar()
+    looks = [k for k, (kind, idname, _) in enumerate(fine) if idname == "blobtree_ink.illustrate"]
+    assert len(looks) == 4 + len(panels.PRESETS)
+    assert broken[:looks[-1] + 1] == fine[:looks[-1] + 1]       # every request and look, as before
+    error = next(k for k, (kind, _, text) in enumerate(broken) if kind == "label" and "with an error" in str(text))
+    assert error > looks[-1]
+    # in the node: its values where they were, then the error
+    shown = node()
+    assert shown[:len(values)] == values and len(shown) > len(values)
+    assert {kind for kind, _ in shown[len(values):]} == {"label"}
