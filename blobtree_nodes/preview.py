@@ -19,7 +19,8 @@ from .idnames import TREE
 COLLECTION = "BlobTree Ink"
 PAPER_MATERIAL = "BlobTree Ink Paper Mesh"
 stats = {"rebuilds": 0}          # for tests and the UI
-built = {}                       # tree name -> the key (model.fingerprint) of the model its preview shows
+SHOWN_MODEL = "blobtree_ink_model"    # the preview object's ID property: the key (model.fingerprint) of the model
+                                      # it shows
 
 
 def rebuild(tree):
@@ -39,9 +40,16 @@ def rebuild(tree):
     obj = _preview_object(tree)
     write_mesh(obj.data, mesh.vertices, mesh.quads)
     paper_look(tree)
-    built[tree.name] = fingerprint(model)
+    obj[SHOWN_MODEL] = fingerprint(model)
     stats["rebuilds"] += 1
     return True
+
+
+def shown_model(tree):
+    """The key (model.fingerprint) of the model the tree's preview shows, or None (no
+    preview)."""
+    obj = tree.preview_object if tree.show_preview else None
+    return None if obj is None else obj.get(SHOWN_MODEL)
 
 
 def paper_look(tree):

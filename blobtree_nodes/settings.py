@@ -207,8 +207,9 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
                                             description="What Paper replaced in the scene (restored when it is off)")
     render_frames: bpy.props.BoolProperty(
         name="Illustrate Rendered Frames", default=True,
-        description="When a render reaches a frame the ink has no drawing of (or one a render made), illustrate "
-                    "it first: the outlines and the style's strokes (a bake's or the artist's drawings are kept)")
+        description="When a render reaches a frame the ink shows no drawing made for (a drawing made from this "
+                    "model, light, style and camera is kept, as are a bake's and the artist's), illustrate it "
+                    "first: the outlines and the style's strokes")
     use_scene_range: bpy.props.BoolProperty(
         name="Scene Range", default=True, update=_scene_range,
         description="Bake the scene's frame range (the timeline's Start and End); off: the range below")

@@ -7,7 +7,7 @@ import json
 import bpy
 import numpy as np
 
-from ..pipeline.framing import LENS, SENSOR, crop
+from ..pipeline.framing import CROP_MOST, LENS, SENSOR, crop
 
 CAMERA, LIGHT = "BlobTree Ink Camera", "BlobTree Ink Light"
 PAPER_WORLD = "BlobTree Ink Paper"
@@ -121,9 +121,10 @@ def crop_camera(scene, cam, points):
     frame with the framing margin and looks exactly as it did, only larger."""
     r = scene.render
     aspect = (r.resolution_x * r.pixel_aspect_x) / (r.resolution_y * r.pixel_aspect_y)
-    m = cam.matrix_world
-    tan_half, sx, sy = crop(np.array(m.to_3x3().normalized(), float), np.array(m.translation, float), points, aspect)
-    data = cam.data
+    m, data = cam.matrix_world, cam.data
+    least = data.sensor_width / (2 * data.lens) / CROP_MOST
+    tan_half, sx, sy = crop(np.array(m.to_3x3().normalized(), float), np.array(m.translation, float), points, aspect,
+                            least=least)
     data.sensor_fit = "AUTO"
     data.lens = data.sensor_width / (2 * tan_half)
     data.shift_x, data.shift_y = sx, sy

@@ -3,14 +3,18 @@ itself (ID properties: saved, undone and copied with it): the viewpoint (every l
 hidden lines are removed for one eye, and silhouettes, suggestive contours and apparent
 ridges are that eye's) and the model (its key, model.fingerprint). A layer drawn for
 another viewpoint (pipeline.framing.same_view) or another model than the rest of the
-drawing does not fit it: a request tells which layers it did not redraw are so, and a
-render uses a drawing held over from an earlier frame only where it fits that frame."""
+drawing does not fit it: a request tells which layers it did not redraw are so. And
+all the drawing was made from (pipeline.Job.making): a render uses a drawing shown on
+a frame only where it was made from all the frame's job is, for the very same eye."""
 import numpy as np
 
 from ..pipeline.framing import same_view
 
 KEY = "blobtree_ink_views"      # the ID property: "layer@frame" -> the eye (model coordinates), or MIXED
 MODELS = "blobtree_ink_models"  # the ID property: "layer@frame" -> the model's key, or MIXED
+MADE = "blobtree_ink_made"      # the ID property: "layer@frame" -> all it was made from but the eye
+                                # (pipeline.Job.making), or MIXED
+SAME_EYE = 1e-9                 # eyes this close (a share of their distance from the origin, at least 1) are one
 MIXED = "mixed"                 # a drawing with strokes drawn for several eyes or models (a region redrawn)
 VIEWPOINT, MODEL = "viewpoint", "model"     # why a drawing does not fit (:func:`unfit`)
 
@@ -19,17 +23,18 @@ def _key(layer, frame):
     return f"{layer}@{int(frame)}"
 
 
-def record(obj, layers, frame, eye, centre, region=None, model=None):
+def record(obj, layers, frame, eye, centre, region=None, model=None, made=None):
     """Remember that ``layers`` of the ink object were drawn on ``frame`` for ``eye``
-    (the model's ``centre`` tells two eyes apart; both in the model's coordinates) and
-    the model of key ``model``. A drawing redrawn only in a ``region`` for another eye
-    or model than its own holds both: it is mixed from then on."""
+    (the model's ``centre`` tells two eyes apart; both in the model's coordinates), the
+    model of key ``model`` and all that is ``made`` (the job's key). A drawing redrawn
+    only in a ``region`` for another eye or model than its own, or over strokes drawn
+    before models were kept, holds both: it is mixed from then on."""
     if eye is None or centre is None or not layers:
         return
-    for prop in (KEY, MODELS):
+    for prop in (KEY, MODELS, MADE):
         if prop not in obj:
             obj[prop] = {}
-    views, models = obj[KEY], obj[MODELS]      # set in place: a bake's many frames are not copied each frame
+    views = obj[KEY]                    # set in place: a bake's many frames are not copied each frame
     for layer in layers:
         key = _key(layer, frame)
         old = views.get(key)
@@ -37,9 +42,19 @@ def record(obj, layers, frame, eye, centre, region=None, model=None):
             views[key] = MIXED
         else:
             views[key] = [float(v) for v in eye]
-        if model is not None:
-            old = models.get(key)
-            models[key] = MIXED if region is not None and old is not None and old != model else model
+        for prop, value in ((MODELS, model), (MADE, made)):
+            if value is None:
+                continue
+            kept = obj[prop].get(key, MIXED if old is not None else None)     # (drawn, none kept: unknown)
+            obj[prop][key] = MIXED if region is not None and kept is not None and kept != value else value
+
+
+def forget(obj, layers, frame):
+    """Forget what ``layers``' drawings on ``frame`` were drawn for (they were cleared)."""
+    for prop in (KEY, MODELS, MADE):
+        kept = obj.get(prop)
+        for layer in layers if kept is not None else ():
+            kept.pop(_key(layer, frame), None)
 
 
 def unfit(obj, layers, frame, eye, centre, model=None):
@@ -63,21 +78,18 @@ def other_model(obj, layers, frame, model):
             if strokes and models.get(key) is not None and models[key] != model]
 
 
-def made_for(obj, layers, frame, model):
+def holds(obj, layers, frame, eye, made):
     """Whether each of ``layers`` shows a drawing on ``frame`` (the key at or before it)
-    kept as drawn for the model of key ``model``."""
+    kept as drawn for this very ``eye`` (within SAME_EYE) and from all that is ``made``
+    (pipeline.Job.making): a render can use it as it is."""
     shown = list(_shown(obj, layers, frame))
-    models = obj.get(MODELS, {}) if shown else {}
-    return len(shown) == len(layers) > 0 and all(models.get(key) == model for _, key, _ in shown)
-
-
-def seen_alike(obj, layers, frame, eye, centre):
-    """Whether each of ``layers`` shows a drawing on ``frame`` kept as drawn for an eye
-    that sees the model (its ``centre``) like ``eye``."""
-    shown = list(_shown(obj, layers, frame))
-    views = obj.get(KEY, {}) if shown else {}
-    return len(shown) == len(layers) > 0 and all(key in views and _fits(views[key], eye, centre)
-                                                  for _, key, _ in shown)
+    if not shown or len(shown) < len(layers):
+        return False
+    views, kept = obj.get(KEY, {}), obj.get(MADE, {})
+    eye = np.asarray(eye, float)
+    near = SAME_EYE * max(1.0, float(np.linalg.norm(eye)))
+    return all(kept.get(key) == made and not isinstance(views.get(key, MIXED), str)
+               and float(np.linalg.norm(np.asarray(views[key][:3], float) - eye)) <= near for _, key, _ in shown)
 
 
 def _shown(obj, layers, frame):

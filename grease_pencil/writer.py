@@ -98,10 +98,11 @@ def write(obj, result, frame=1):
     for name in result.appended:
         write_layer(obj, name, result.strokes.layers.get(name, []), frame, keep=lambda P: np.ones(len(P), bool))
     whole = [n for n in result.owned if result.region is None or n not in STROKE_LAYERS]
-    views.record(obj, whole, frame, result.eye, result.centre, model=result.model)
+    made = dict(model=result.model, made=result.made)
+    views.record(obj, whole, frame, result.eye, result.centre, **made)
     views.record(obj, [n for n in result.owned if n not in whole], frame, result.eye, result.centre, result.region,
-                 model=result.model)
-    views.record(obj, result.appended, frame, result.eye, result.centre, region=True, model=result.model)
+                 **made)
+    views.record(obj, result.appended, frame, result.eye, result.centre, region=True, **made)
     return obj
 
 

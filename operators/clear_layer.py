@@ -3,6 +3,7 @@ sidebar's Ink Layers: what a look or a request drew there goes, the other layers
 frames stay (one undo step)."""
 import bpy
 
+from ..grease_pencil import views
 from .common import InkLayerOperator
 from .frames import shown_key
 
@@ -19,6 +20,7 @@ class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):
         n = len(key.drawing.strokes) if key is not None else 0
         if n:
             key.drawing.remove_strokes()
+            views.forget(bpy.data.objects[self.object_name], [self.layer], key.frame_number)
         self.report({"INFO"}, f"cleared {n} stroke{'s' if n != 1 else ''} of {self.layer}" if n
                     else f"{self.layer} has no stroke at this frame")
         return {"FINISHED"}

@@ -1,7 +1,7 @@
-"""Frame Camera: the scene camera moved along its own line of sight (an orthographic
-one also zoomed) until the tree's model fills its frame as the command line's camera
-frames it, so that a From Camera run and a render see the whole model. Without a scene
-camera one is made, looking from the three-quarter view. One undo step.
+"""Frame Camera: the scene camera moved, its direction kept, until the tree's model
+fills its frame with the framing margin (an orthographic one also zoomed), so that a
+From Camera run and a render see the whole model. Without a scene camera one is made,
+looking from the three-quarter view. One undo step.
 
     bpy.ops.blobtree_ink.frame_camera(tree_name="heart")
 """
@@ -19,7 +19,7 @@ from .common import context_tree
 
 
 class BLOBTREE_INK_OT_frame_camera(bpy.types.Operator):
-    """Move the scene camera along its line of sight until it frames the BlobTree's model (or make one)"""
+    """Move the scene camera, its direction kept, until it frames the BlobTree's model (or make one)"""
     bl_idname = "blobtree_ink.frame_camera"
     bl_label = "Frame Camera"
     bl_options = {"REGISTER", "UNDO"}
@@ -71,31 +71,36 @@ def outline_points(tree, centre, radius):
     return centre + radius * cube
 
 
+NEAR = 0.1                  # the camera's near clip at most this share of the model's reach from its centre
+FAR = 2.0                   # its far clip at least this many times its distance from the farthest point
+
+
 def frame(scene, cam, centre, points):
-    """Put the camera ``cam`` on its line of sight through ``centre`` (its direction
-    kept) where the scene's render frame holds ``points`` (n, 3) with the command line's
-    margin: a perspective camera at the nearest distance that does, an orthographic one
-    zoomed to it (and set back far enough to see them all)."""
+    """Move the camera ``cam``, its direction and lens shift kept, onto the line through
+    ``centre`` and its frame's centre, where the scene's render frame holds ``points``
+    (n, 3) with the framing margin: a perspective camera at the nearest distance that
+    does, an orthographic one zoomed to it (and set back far enough to see them all)."""
     world = cam.matrix_world.copy()
     axes = np.array(world.to_3x3().normalized(), float)              # columns: right, up, backwards
     rel = (np.asarray(points, float) - centre) @ axes                 # the points about the centre, in camera axes
-    side, beyond = np.abs(rel[:, :2]), -rel[:, 2]                     # off the line of sight; depth past the centre
     corners = np.array([tuple(v) for v in cam.data.view_frame(scene=scene)], float)
-    half = 0.5 * np.ptp(corners[:, :2], axis=0)                       # the frame's half width and height
+    half, mid = 0.5 * np.ptp(corners[:, :2], axis=0), corners[:, :2].mean(axis=0)
     reach = float(np.linalg.norm(rel, axis=1).max())
-    in_front = float(cam.data.clip_start - beyond.min() + 0.1 * reach)   # every point past the near clip
-    if cam.data.type == "ORTHO":
-        cam.data.ortho_scale *= PL.MARGIN * float((side / half).max())
-        distance = max(float(np.dot(np.array(world.translation) - centre, axes[:, 2])), in_front)
-    else:
-        tan_half = half / float(np.abs(corners[:, 2]).max())
-        # a point at depth d past the centre is framed from t back when its offset <= (t + d) tan / MARGIN
-        distance = max(float(((PL.MARGIN * side / tan_half).max(axis=1) - beyond).max()), in_front)
-    world.translation = Vector(tuple(centre + distance * axes[:, 2]))
-    cam.matrix_world = world
     data = cam.data
-    data.clip_start = min(data.clip_start, 0.1 * reach)
-    data.clip_end = max(data.clip_end, 2 * (distance + reach))
+    in_front = float(rel[:, 2].max()) + data.clip_start + NEAR * reach          # every point past the near clip
+    if data.type == "ORTHO":
+        zoom = PL.ortho_fit(rel, half)
+        data.ortho_scale *= zoom
+        back = max(float(np.dot(np.array(world.translation) - centre, axes[:, 2])), in_front)
+        place = np.array([-zoom * mid[0], -zoom * mid[1], back])
+    else:
+        depth = float(np.abs(corners[:, 2]).max())
+        back = max(PL.perspective_fit(rel, half / depth, mid / depth), in_front)
+        place = back * np.array([-mid[0] / depth, -mid[1] / depth, 1.0])
+    world.translation = Vector(tuple(centre + axes @ place))
+    cam.matrix_world = world
+    data.clip_start = min(data.clip_start, NEAR * reach)
+    data.clip_end = max(data.clip_end, FAR * (float(np.linalg.norm(place)) + reach))
 
 
 def _new_camera(scene, centre, radius):
@@ -114,14 +119,18 @@ def _new_camera(scene, centre, radius):
 def held_by(cam):
     """What may put the camera back where it was (its animation, drivers, constraints
     or a parent's animation), or ''."""
-    held = []
-    if cam.animation_data is not None and (cam.animation_data.action is not None or cam.animation_data.drivers):
-        held.append("animation")
+    held = ["animation"] if _animated(cam) else []
     if any(c.enabled for c in cam.constraints):
         held.append("constraints")
-    if cam.parent is not None and cam.parent.animation_data is not None:
+    if cam.parent is not None and _animated(cam.parent):
         held.append("parent's animation")
     return " and ".join(held)
+
+
+def _animated(obj):
+    """Whether an object has an action or drivers."""
+    anim = obj.animation_data
+    return anim is not None and (anim.action is not None or len(anim.drivers) > 0)
 
 
 classes = (BLOBTREE_INK_OT_frame_camera,)

@@ -3,8 +3,8 @@ line's frames: the tree compiled as it is then (its animation, its followed obje
 seen by the scene's camera and lit by its lights then, its requests the tree's look
 (the outlines and the style's strokes); the result written as that frame's drawing.
 The frames a render drew are listed on the ink object: a later render draws them
-again (the model may have changed), while frames drawn otherwise (baked, or drawn by
-the artist at that frame) are kept."""
+again unless they were made from all that frame's job is made from, for its eye (:func:`holds`),
+while frames drawn otherwise (baked, or drawn by the artist at that frame) are kept."""
 import bpy
 
 from .. import pipeline as PL
@@ -14,7 +14,6 @@ from ..blobtree_nodes.compile import compile_tree, in_no_scene
 from ..blobtree_nodes.settings import style_of
 from ..grease_pencil import views
 from ..grease_pencil.writer import ink_object, write
-from ..model import Evaluator
 from ..strokes.data import LAYER_OF_KIND
 from . import jobs
 from .common import ink_name
@@ -46,15 +45,14 @@ def frame_job(tree, scene, depsgraph=None):
 
 def holds(tree, job, frame):
     """Whether the tree's ink shows on ``frame`` (held from an earlier key if need be)
-    a drawing of every layer the frame's ``job`` draws, made for its model and its view:
-    a render can use it as it is. The model's key is asked first; its bounds (for the
-    view) only when that fits."""
+    a drawing of every layer the frame's ``job`` draws, made from all the job is made
+    from (its model, light, style, seed and settings) for its very eye: a render can use
+    it as it is. A job with no eye of its own (no scene camera) is never taken as held."""
     obj = bpy.data.objects.get(ink_name(tree))
-    layers = job.owned_layers()
-    if obj is None or not views.made_for(obj, layers, frame, jobs.model_key(job)):
+    if obj is None or job.view is None:
         return False
-    centre, radius = PL.bounds(job.model if isinstance(job.model, Evaluator) else Evaluator(job.model))
-    return views.seen_alike(obj, layers, frame, PL.view_eye(job.view, centre, radius), centre)
+    checked = job.checked()
+    return views.holds(obj, checked.owned_layers(), frame, job.view.eye, checked.making(jobs.model_key(job)))
 
 
 def write_frame(tree, result, frame, rendered=False):

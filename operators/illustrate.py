@@ -30,6 +30,7 @@ from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview
 from ..blobtree_nodes.compile import TreeError, compile_document, same_model
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
+from ..grease_pencil import views
 from ..grease_pencil.writer import ink_object, stroke_count, write, write_layer
 from ..strokes.data import LAYER_OF_KIND
 from ..model import Evaluator
@@ -160,6 +161,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             obj = ink_object(self.obj_name)
             for name in self.unfit:
                 write_layer(obj, name, [], frame=self.frame)
+            views.forget(obj, list(self.unfit), self.frame)
             self.notes.append(jobs.cleared_note(self.unfit))
 
     def _figures(self, progress):

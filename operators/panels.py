@@ -11,6 +11,7 @@ from ..blobtree_nodes.compile import output_nodes
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from ..grease_pencil import views
+from ..pipeline.job import SINGLE_LAYER
 from ..strokes.data import LAYERS
 from . import frames as FR
 from .common import TREE, active_tree, blobtrees, focus, ink_name
@@ -68,9 +69,10 @@ def _draw_stale(layout, context, tree):
     """Say so when the ink shown on this frame was drawn for another model than the
     one the preview shows (an edit, a moved object the tree follows, another frame of
     an animation)."""
-    obj, key = bpy.data.objects.get(ink_name(tree)), preview.built.get(tree.name)
+    obj, key = bpy.data.objects.get(ink_name(tree)), preview.shown_model(tree)
+    drawn = [n for n in LAYERS if n != SINGLE_LAYER]          # (the single strokes are the artist's own)
     if obj is None or obj.type != "GREASEPENCIL" or key is None or \
-            not views.other_model(obj, LAYERS, context.scene.frame_current, key):
+            not views.other_model(obj, drawn, context.scene.frame_current, key):
         return
     col = layout.column(align=True)
     col.alert = True

@@ -86,7 +86,10 @@ def render(spec, log):
         raise CliError("nothing visible was found to draw")
     obj = ink_object(f"{model.name} Ink")
     write(obj, result, frame=sc.frame_current)
-    S.crop_camera(sc, sc.camera, np.concatenate([s.points for ss in result.strokes.layers.values() for s in ss]))
+    try:
+        S.crop_camera(sc, sc.camera, np.concatenate([s.points for ss in result.strokes.layers.values() for s in ss]))
+    except ValueError as e:
+        raise CliError(f"the picture cannot be cut about the drawing: {e}") from None
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
     nudge = OUT.sideways(eye, centre, 0.01 * ill.line_radius)
     try:

@@ -2,12 +2,11 @@
 frame a render reaches is illustrated before it renders, through the pipeline, for
 every tree with an ink object and its *Illustrate Rendered Frames* on, unless the ink
 already has a drawing of that frame made otherwise (a bake, the artist's own run at
-that frame), or shows one held over from an earlier frame that was made for this
-frame's model and view (a still model drawn once, seen by a still camera): those are
-used as they are. The frames a render drew are drawn again by the next render where
-they no longer fit (the model or the view changed since). The frame is illustrated as the
-render's depsgraph evaluates it (objects, animation), in the frame change handler the
-render calls before it renders the frame."""
+that frame), or shows one, its own or held over from an earlier frame, made from all
+this frame's job is made from (model, light, style, seed, settings) for the very same
+eye (a still model drawn once, seen by a still camera): those are used as they are.
+The frame is illustrated as the render's depsgraph evaluates it (objects, animation),
+in the frame change handler the render calls before it renders the frame."""
 import traceback
 
 import bpy
@@ -38,8 +37,8 @@ def illustrate(scene, depsgraph=None):
             continue
         try:
             job, _ = FR.frame_job(tree, scene, depsgraph)
-            if FR.holds(tree, job, frame):     # a drawing held over from an earlier frame, made for this one's
-                continue                       # model and view: used as it is
+            if FR.holds(tree, job, frame):     # a drawing made from all this frame's job is: used as it is
+                continue
             ill = PL.Illustration(job, previous=_previous.get(tree.name), remember=True)
             result = ill.run()
             _previous[tree.name] = ill.continuation()

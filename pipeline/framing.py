@@ -14,11 +14,12 @@ from ..model.owners import owners
 from ..model.vectors import cross
 
 LINE_RADIUS = 0.0014        # a line's radius, as a fraction of the model's size (about 1.1 px at 1024 px
-                            # in the command line's three-quarter view)
+                            # in a three-quarter view framing the model's bounding sphere)
 STROKE_UNIT = 0.64          # the strokes' unit of length, as a fraction of the model's size over
 UNIT_GRID = 20              # this grid resolution (about a cell of the default grid; the grid the agents
                             # use changes the outlines' detail, never the strokes' density)
 LENS, SENSOR, MARGIN = 50.0, 36.0, 1.15     # the framing camera: focal length and sensor width (mm), margin
+CROP_MOST = 4.0             # a picture cut close about its drawing is at most this many times closer
 VIEW_ANGLE = 0.5            # degrees: eyes this close in direction from the model's centre ...
 VIEW_DISTANCE = 0.02        # ... and in distance (a share of it) see the model alike
 
@@ -64,11 +65,12 @@ def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, s
     return np.asarray(centre, float) + dist * d
 
 
-def crop(axes, eye, points, aspect=1.0, margin=MARGIN):
+def crop(axes, eye, points, aspect=1.0, margin=MARGIN, least=0.0):
     """The crop of a camera at ``eye`` (its ``axes``: the columns right, up, backwards)
     that holds ``points`` with ``margin`` about them, the same view cut closer: the
     tangent of the half-angle of the frame's longer side (a render ``aspect`` wide per
-    unit of height), and the shift of the frame's centre in units of that side
+    unit of height), never under ``least`` (a drawing of a dot or two is not blown up
+    to fill the frame), and the shift of the frame's centre in units of that side
     (Blender's lens shift), (tan_half, shift_x, shift_y)."""
     rel = (np.asarray(points, float).reshape(-1, 3) - np.asarray(eye, float)) @ np.asarray(axes, float)
     depth = -rel[:, 2]
@@ -78,8 +80,28 @@ def crop(axes, eye, points, aspect=1.0, margin=MARGIN):
     lo, hi = uv.min(0), uv.max(0)
     centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     wide = max(half[0], half[1] * aspect) if aspect >= 1 else max(half[1], half[0] / aspect)
-    tan_half = margin * max(float(wide), 1e-9)
+    tan_half = max(margin * float(wide), least, 1e-9)
     return tan_half, float(centre[0]) / (2 * tan_half), float(centre[1]) / (2 * tan_half)
+
+
+def perspective_fit(rel, half, offset=(0.0, 0.0), margin=MARGIN):
+    """How far back a perspective camera stands from a centre point, on the line from it
+    through the frame's centre, for its frame to hold points ``rel`` with ``margin``
+    about them (``rel``: the points about the centre in the camera's axes, right, up and
+    backwards; ``half``: the frame's half width and height one unit ahead; ``offset``:
+    its centre there, a lens shift). A point ``d`` beyond the centre and ``s`` off the
+    line is framed from ``t`` back when s <= (t + d) half / margin."""
+    rel, half, offset = np.asarray(rel, float).reshape(-1, 3), np.asarray(half, float), np.asarray(offset, float)
+    off = np.abs(rel[:, :2] + offset * rel[:, 2:])           # off the centre line, across it
+    return float((rel[:, 2] + margin * (off / half).max(axis=1)).max())
+
+
+def ortho_fit(rel, half, margin=MARGIN):
+    """The zoom (a factor of its frame's size) that makes an orthographic camera's frame,
+    of half width and height ``half``, hold points ``rel`` (about its centre, in the
+    camera's axes) with ``margin`` about them."""
+    rel = np.asarray(rel, float).reshape(-1, 3)
+    return float(margin * (np.abs(rel[:, :2]) / np.asarray(half, float)).max())
 
 
 def view_eye(view, centre, radius):

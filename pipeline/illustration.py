@@ -73,6 +73,7 @@ class Result:
     eye: np.ndarray = None     # the eye it was drawn for and the model's centre (model coordinates),
     centre: np.ndarray = None  # once known (framing.same_view)
     model: str = None          # the model's key (model.fingerprint), once known
+    made: str = None           # the key of all it is made from but the eye (Job.making), once known
 
 
 class Illustration:
@@ -81,7 +82,7 @@ class Illustration:
         from; ``remember``: keep what the next frame's can take (:meth:`continuation`)."""
         self.job = job.checked()
         self.previous, self.remember = previous, remember
-        self.ev = None                 # the compiled model, the eye, the light and the requests'
+        self.ev = self.model_key = None    # the compiled model and its key, the eye, the light and the requests'
         self.eye = self.light = None   # regions, and the model's centre: made at the initialisation
         self.centre = None             # (on a runner's worker)
         self.requests = self.job.requests
@@ -191,8 +192,8 @@ class Illustration:
             self.ev = prev.ev                  # the last frame's model: its plan, size and marks as made
         else:
             self.ev = Evaluator(j.model)
-        if "fingerprint" not in self.ev.memo:          # (the plan's: made once per evaluator)
-            self.ev.memo["fingerprint"] = fingerprint(self.ev.model)
+        memo = self.ev.memo                            # the model's key: made once per evaluator
+        self.model_key = memo.get("fingerprint") or memo.setdefault("fingerprint", fingerprint(self.ev.model))
         centre, radius = bounds(self.ev)
         self.centre = centre
         self.eye = view_eye(j.view, centre, radius)
@@ -383,8 +384,8 @@ class Illustration:
             out.layers[name] = list(strokes)
         return Result(out, owned, j.appended_layers(), self.progress(), list(self.warnings),
                       done=self.finished and not self.stopping, stopped=self.stopping, region=self._region(),
-                      eye=self.eye, centre=self.centre,
-                      model=None if self.ev is None else self.ev.memo["fingerprint"])
+                      eye=self.eye, centre=self.centre, model=self.model_key,
+                      made=None if self.model_key is None else j.making(self.model_key))
 
     def _owned_now(self):
         """The layers the result replaces now: those of the stages begun (a stopped run

@@ -1,6 +1,7 @@
 """What to illustrate: a :class:`Job` (a compiled model, a view, a light, a style, the
 requests, a seed and the sampling settings), plain data checked once, and the layers
 each request draws."""
+import hashlib
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -16,6 +17,7 @@ OUTLINES, PLACE_STROKES, SINGLE_STROKE, FIND_FEATURES = REQUESTS = (
 # the stroke layers each style switch draws on (strokes.data.LAYERS)
 STYLE_LAYERS = dict(zip(STROKE_SWITCHES, STROKE_LAYERS))
 SINGLE_LAYER = "Single Strokes"
+LIGHT_DIGITS = 9            # decimals of a light's direction or position that tell two drawings apart
 
 
 class JobError(ValueError):
@@ -143,6 +145,13 @@ class Job:
         """The style's stroke layers a PLACE_STROKES request draws."""
         return self.style.stroke_switches() if PLACE_STROKES in self.kinds else ()
 
+    def making(self, model_key):
+        """A key of what this job's drawing is made from besides the eye: the model (its
+        ``model_key``, model.fingerprint), the light, the style, the seed and the sampling
+        settings. Two checked jobs with one key, seen from one eye, draw alike."""
+        light = [None if v is None else [round(float(x), LIGHT_DIGITS) for x in v] for v in (self.light, self.light_at)]
+        text = repr((model_key, light, self.style, self.seed, self.settings))
+        return hashlib.sha1(text.encode("utf-8")).hexdigest()[:16]
 
     def owned_layers(self):
         """The layers this job's result replaces as a whole, even where it draws nothing

@@ -229,8 +229,8 @@ def test_an_animation_render_illustrates_each_frame_as_the_bake_does(ext, exampl
 
 def test_a_render_uses_a_drawing_held_over_while_it_fits_the_frames_model_and_view(ext, example, tmp_path):
     """A still model drawn once at frame 1: a render of frame 6 uses that drawing as it
-    is (no new drawing written); once the model changes, or the camera moves, the render
-    illustrates frame 6 for what it then is."""
+    is (no new drawing written); once the model, the camera (even a little), the style or
+    the light changes, the render illustrates frame 6 for what it then is, once."""
     from aimed_camera import aimed_camera
     R = mod(ext, "operators.render_frames")
     bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=False)
@@ -250,6 +250,15 @@ def test_a_render_uses_a_drawing_held_over_while_it_fits_the_frames_model_and_vi
     assert render(6) == [] and mod(ext, "operators.frames").drawn_frames(tree) == {1}
     [n for n in tree.nodes if n.label == "belly"][0].radius *= 1.1       # the model changes
     assert render(6) == [6] and render(6) == []                          # drawn once, then used
-    cam.location.x += 3.0                                                # the camera moves
+    cam.location.x += 0.01                                               # the camera moves a little
+    bpy.context.view_layer.update()
+    assert render(6) == [6] and render(6) == []
+    tree.ink.contrast = 0.5                                              # the style changes
+    assert render(6) == [6] and render(6) == []
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sc.collection.objects.link(sun)                                      # the light changes
+    bpy.context.view_layer.update()
+    assert render(6) == [6] and render(6) == []
+    sun.rotation_euler.x += 0.3
     bpy.context.view_layer.update()
     assert render(6) == [6]

@@ -316,11 +316,11 @@ def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, e
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
     obj = bpy.data.objects["pear Ink"]
     before = obj[views.MODELS]["Silhouette@1"]
-    assert obj[views.MODELS]["Stipples@1"] == before == preview.built["pear"] and stale() == ""
+    assert obj[views.MODELS]["Stipples@1"] == before == preview.shown_model(tree) and stale() == ""
     belly = [n for n in tree.nodes if n.label == "belly"][0]
     belly.radius *= 1.15                                      # the artist makes the pear fatter
     preview.rebuild(tree)                                     # (in the UI, a timer does so after the edit)
-    assert preview.built["pear"] != before
+    assert preview.shown_model(tree) != before
     assert stale().replace("  ", " ") == panels.STALE.replace("  ", " ")
     # a request leaves the outlines and says so
     tree.ink.stipples, tree.ink.hatching = False, True
@@ -332,7 +332,19 @@ def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, e
     assert run["iterations"] > 0 and ink("pear")["Stipples"] == [] and ink("pear")["Silhouette"]
     assert run["warnings"] == ["Stipples cleared: drawn before the model changed (Ctrl+Z brings it back)"]
     now = obj[views.MODELS]
-    assert now["Silhouette@1"] == now["Hatching@1"] == preview.built["pear"] and stale() == ""
+    assert now["Silhouette@1"] == now["Hatching@1"] == preview.shown_model(tree) and stale() == ""
+    # the artist's single strokes are their own: drawn before an edit, they say nothing
+    assert bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Hatching") == {"FINISHED"}
+    for name in ("Silhouette", "Crease"):
+        bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer=name)
+    bpy.context.scene.cursor.location = (0.0, -0.9, 0.3)                 # by the pear's belly
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="SINGLE_STROKE") == {"FINISHED"}
+    belly.radius *= 1.05
+    preview.rebuild(tree)
+    assert ink("pear")["Single Strokes"] and stale() == ""
+    belly.radius /= 1.05
+    preview.rebuild(tree)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
     # the outlines now fit the fatter pear: every silhouette point lies on its surface
     model = __import__(f"{ext.__name__}.blobtree_nodes.compile", fromlist=["x"]).compile_tree(tree)
     ev = __import__(f"{ext.__name__}.model", fromlist=["x"]).Evaluator(model)

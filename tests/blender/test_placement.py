@@ -130,6 +130,17 @@ def test_frame_camera_aims_the_scene_camera_at_a_model_beside_the_first(ext, exa
     # the sphere fills the frame's height, less the margin (its radius over the frame's half-height is 1/MARGIN)
     tall = np.ptp(seen[:, 1])
     assert 0.80 < tall < 1 / 1.15 + 0.01, tall
+    # a lens shift and a portrait frame fitted on its height: the model framed all the same
+    sc.render.resolution_x, sc.render.resolution_y = 1080, 1920
+    cam.data.sensor_fit, cam.data.shift_x, cam.data.shift_y = "VERTICAL", 0.2, -0.1
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere") == {"FINISHED"}
+    bpy.context.view_layer.update()
+    seen = in_frame(cam, tree.preview_object)
+    assert (seen[:, :2] > 0).all() and (seen[:, :2] < 1).all()
+    assert 0.80 < np.ptp(seen[:, 0]) < 1 / 1.15 + 0.01                 # the narrow side, the width, decides
+    assert abs(seen[:, 0].mean() - 0.5) < 0.02 and abs(seen[:, 1].mean() - 0.5) < 0.02       # centred
+    sc.render.resolution_x, sc.render.resolution_y = 1920, 1080
+    cam.data.sensor_fit, cam.data.shift_x, cam.data.shift_y = "AUTO", 0.0, 0.0
     # orthographic: zoomed to the same share of the frame
     cam.data.type = "ORTHO"
     cam.data.ortho_scale = 100.0

@@ -229,5 +229,38 @@ def test_a_crop_cuts_the_same_view_closer_about_the_points():
     assert wide == pytest.approx(FR.MARGIN * 0.2)
     tall, _, _ = FR.crop(axes, np.zeros(3), pts, aspect=0.5)      # twice as tall: the width decides
     assert tall == pytest.approx(FR.MARGIN * 0.2)
+    assert FR.crop(axes, np.zeros(3), pts[:1], least=0.05)[0] == 0.05    # one point: no closer than asked
     with pytest.raises(ValueError, match="in front of the camera"):
         FR.crop(axes, np.zeros(3), pts * np.array([1, 1, -1]))
+
+
+def _project(rel, t, offset):
+    """Points about a centre (camera axes) seen from a camera t back on the line through
+    the centre and the frame's centre (``offset``, one unit ahead): their image one unit
+    ahead, about the frame's centre."""
+    cam = t * np.array([-offset[0], -offset[1], 1.0])
+    q = rel - cam
+    return q[:, :2] / -q[:, 2:] - np.asarray(offset)
+
+
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (0.1, -0.05)])
+def test_a_perspective_camera_is_set_back_until_its_frame_holds_the_points(offset):
+    """framing.perspective_fit: from the distance it gives, every point lies within
+    1/MARGIN of the frame's half width or height (a lens shift moves the frame's centre
+    off the axis), and the outermost point on that line; nearer, one would not."""
+    from blobtree_ink.pipeline import framing as FR
+    rng = np.random.default_rng(3)
+    rel = rng.normal(size=(200, 3)) * [1.0, 2.0, 1.5]
+    half = np.array([0.36, 0.2])
+    t = FR.perspective_fit(rel, half, offset)
+    image = np.abs(_project(rel, t, offset)) / half
+    assert image.max() == pytest.approx(1 / FR.MARGIN)
+    assert (np.abs(_project(rel, 0.98 * t, offset)) / half).max() > 1 / FR.MARGIN
+
+
+def test_an_orthographic_camera_zooms_until_its_frame_holds_the_points():
+    from blobtree_ink.pipeline import framing as FR
+    rel = np.array([[1.0, 0.0, 5.0], [-0.5, 2.0, -3.0], [0.0, -1.0, 0.0]])
+    zoom = FR.ortho_fit(rel, half=np.array([4.0, 2.0]))
+    assert zoom == pytest.approx(FR.MARGIN * 1.0)                 # the point 2 up fills the half height 2
+    assert (np.abs(rel[:, :2]) / (zoom * np.array([4.0, 2.0]))).max() == pytest.approx(1 / FR.MARGIN)

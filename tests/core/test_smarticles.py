@@ -281,9 +281,8 @@ def test_a_start_that_does_not_reach_the_surface_draws_nothing():
 
 def test_a_kept_heading_steers_as_strongly_as_a_principal_direction():
     """Where the principal directions mean nothing (or swap), and in the "straight"
-    field, the flow is the unit heading, whatever the smarticle's speed: a flock's
-    wander and alignment then bend its strokes as they do elsewhere, instead of
-    swamping a flow as short as one step (strokes that zigzag)."""
+    field, the flow is the unit heading, whatever the smarticle's speed: it weighs as
+    much as a principal direction against a flock's wander and alignment."""
     P = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
     N = P.copy()
     V = 0.01 * np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0]])         # across the axis (dir1 runs along it)
@@ -297,8 +296,7 @@ def test_a_kept_heading_steers_as_strongly_as_a_principal_direction():
 
 def test_flocked_hatching_turns_smoothly(load_example):
     """The flocked style's strokes on the jug turn less than 60 degrees from one step to
-    the next (a flock's wander and alignment against a kept heading of one step's
-    length made one in twenty turns sharper than that, and one in fifty turn back)."""
+    the next: no zigzag where its principal directions mean nothing."""
     from blobtree_ink import pipeline as PL
     from helpers import job_for
     result = PL.Illustration(job_for(load_example, "jug", "flocked", res=14)).run()
