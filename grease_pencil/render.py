@@ -1,16 +1,16 @@
 """The command line's outputs from a scene holding an illustration: DIR/NAME.png
-(rendered), DIR/NAME.svg (Blender's Grease Pencil SVG exporter, stipples completed as
-circles: grease_pencil.svg) and DIR/NAME.blend. Every output is written to a temporary
+(rendered), DIR/NAME.svg (the drawing through the scene camera: strokes.svg) and
+DIR/NAME.blend. Every output is written to a temporary
 name in DIR and renamed into place, so a failed or interrupted run never leaves a
 half-written file or replaces a good one."""
 import os
+from dataclasses import replace
 
 import bpy
 import numpy as np
 
-from ..model.vectors import cross
-from . import svg
-from .writer import write_layer
+from ..strokes import svg
+from .writer import INK, read_layer
 
 
 class OutputError(Exception):
@@ -41,32 +41,35 @@ def save_blend(tmp):
     bpy.ops.wm.save_as_mainfile(filepath=tmp, copy=True, check_existing=False)
 
 
-def export_svg(obj, tmp, stipples, frame, nudge):
-    """Export the object's drawing as SVG. The exporter drops one-point strokes: the
-    stipples (the Stipples layer's strokes, ``stipples``) are written as two-point
-    strokes ``nudge`` long for the export, replaced by circles in the file, and written
-    back as they were."""
-    if stipples:
-        write_layer(obj, "Stipples", svg.exportable_dots(stipples, nudge), frame)
+def export_svg(scene, obj, tmp, frame):
+    """Write the ink object's drawing shown on ``frame`` (its layers that render) as an
+    SVG seen through the scene camera, on a page of the rendered picture's size
+    (strokes.svg): line on line with the PNG."""
+    cam = scene.camera
+    if cam is None or cam.type != "CAMERA":
+        raise OutputError("the scene has no camera to draw the SVG through")
+    M = np.array(obj.matrix_world, float)
+    scale = float(np.cbrt(abs(np.linalg.det(M[:3, :3]))))          # a radius in the object, in the scene
+    layers = {}
+    for layer in obj.data.layers:
+        if not layer.hide:
+            layers[layer.name] = [replace(s, points=s.points @ M[:3, :3].T + M[:3, 3], radius=s.radius * scale)
+                                  for s in read_layer(obj, layer.name, frame)]
+    r = scene.render
+    size = (r.resolution_x * r.resolution_percentage / 100, r.resolution_y * r.resolution_percentage / 100)
     try:
-        for o in bpy.context.view_layer.objects:
-            o.select_set(o == obj)
-        bpy.context.view_layer.objects.active = obj
-        res = bpy.ops.wm.grease_pencil_export_svg(filepath=tmp, selected_object_type="ACTIVE", use_fill=False,
-                                                  use_uniform_width=True, use_clip_camera=True)
-        if res != {"FINISHED"}:
-            raise OutputError(f"Grease Pencil SVG export failed: {res}")
-    finally:
-        if stipples:
-            write_layer(obj, "Stipples", stipples, frame)
-    if stipples:
-        n = svg.dots_to_circles(tmp)
-        if n != len(stipples):
-            raise OutputError(f"the SVG export kept {n} of {len(stipples)} stipples")
+        svg.write(tmp, layers, lens(scene, cam), size, INK)
+    except ValueError as e:
+        raise OutputError(str(e)) from None
 
 
-def sideways(eye, centre, length):
-    """A short step across the view (for a two-point stand-in of a dot)."""
-    d = cross(np.asarray(eye, float) - np.asarray(centre, float), [0.0, 0.0, 1.0])
-    n = np.linalg.norm(d)
-    return (d / n if n > 0 else np.array([1.0, 0.0, 0.0])) * length
+def lens(scene, cam):
+    """The scene camera as the SVG's page sees through it (strokes.svg.Lens): its
+    frame as Blender makes it for the scene's render (sensor fit, aspect, lens shift)."""
+    corners = np.array([tuple(v) for v in cam.data.view_frame(scene=scene)], float)
+    ortho = cam.data.type == "ORTHO"
+    depth = 1.0 if ortho else float(np.abs(corners[:, 2]).max())
+    m = cam.matrix_world
+    return svg.Lens(eye=np.array(m.translation, float), axes=np.array(m.to_3x3().normalized(), float),
+                    centre=tuple(corners[:, :2].mean(axis=0) / depth),
+                    half=tuple(0.5 * np.ptp(corners[:, :2], axis=0) / depth), ortho=ortho)

@@ -12,7 +12,7 @@ strokes) a DOTS material set up to draw in this Blender (grease_pencil.compat).
 import bpy
 import numpy as np
 
-from ..strokes.data import LAYERS, STROKE_LAYERS
+from ..strokes.data import LAYERS, STROKE_LAYERS, Stroke
 from . import compat, views
 
 INK = (0.02, 0.02, 0.03, 1.0)
@@ -111,6 +111,33 @@ def write_set(obj, stroke_set, frame=1):
     for name, strokes in stroke_set.layers.items():
         write_layer(obj, name, strokes, frame)
     return obj
+
+
+def shown_frame(layer, frame):
+    """The layer's key shown on ``frame`` (its last at or before it: Grease Pencil holds
+    a drawing until the next key), or None before its first."""
+    keys = [f for f in layer.frames if f.frame_number <= frame]
+    return max(keys, key=lambda f: f.frame_number) if keys else None
+
+
+def read_layer(obj, name, frame):
+    """The strokes of layer ``name``'s drawing shown on ``frame`` as plain strokes
+    (strokes.data.Stroke, in the object's coordinates): what :func:`write_layer` wrote."""
+    key = shown_frame(obj.data.layers[name], frame)
+    n = len(key.drawing.strokes) if key is not None else 0
+    if not n:
+        return []
+    drawing = key.drawing
+    off = np.zeros(n + 1, np.int32)
+    drawing.curve_offsets.foreach_get("value", off)
+    k = int(off[-1])
+    P = _values(drawing, "position", k, np.float32, 3).reshape(-1, 3).astype(float)
+    r, o = _values(drawing, "radius", k, np.float32).astype(float), _values(drawing, "opacity", k, np.float32, 1, 1)
+    cyclic, mat = _values(drawing, "cyclic", n, bool), _values(drawing, "material_index", n, np.int32)
+    mats = [m.name if m is not None else "" for m in obj.data.materials]
+    dots_i = mats.index(DOTS_MATERIAL) if DOTS_MATERIAL in mats else -1
+    return [Stroke(P[a:b], r[a:b], o[a:b].astype(float), cyclic=bool(c), dots=bool(m == dots_i))
+            for a, b, c, m in zip(off[:-1], off[1:], cyclic, mat)]
 
 
 def _values(drawing, name, n, dtype, width=1, default=0):

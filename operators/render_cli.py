@@ -91,12 +91,10 @@ def render(spec, log):
     except ValueError as e:
         raise CliError(f"the picture cannot be cut about the drawing: {e}") from None
     paths = {ext: os.path.join(out_dir, f"{name}.{ext}") for ext in ("png", "blend", "svg")}
-    nudge = OUT.sideways(eye, centre, 0.01 * ill.line_radius)
     try:
         os.makedirs(out_dir, exist_ok=True)
         OUT.atomic(paths["png"], lambda tmp: OUT.render_png(sc, tmp))
-        OUT.atomic(paths["svg"], lambda tmp: OUT.export_svg(obj, tmp, result.strokes.layers["Stipples"],
-                                                             sc.frame_current, nudge))
+        OUT.atomic(paths["svg"], lambda tmp: OUT.export_svg(sc, obj, tmp, sc.frame_current))
         OUT.atomic(paths["blend"], OUT.save_blend)
     except OSError as e:
         raise CliError(f"cannot write to {out_dir}: {e.strerror or e}") from None
@@ -159,10 +157,7 @@ def render_scene(spec, log):
             obj = FR.write_frame(tree, result, frame)
             stem = os.path.join(spec.out, f"{name}_{frame:04d}")
             OUT.atomic(stem + ".png", lambda tmp: OUT.render_png(sc, tmp))
-            dots = result.strokes.layers["Stipples"]
-            nudge = OUT.sideways(job.view.eye, np.mean([s.points[0] for s in dots], axis=0),
-                                 0.01 * float(dots[0].radius[0])) if dots else None
-            OUT.atomic(stem + ".svg", lambda tmp: OUT.export_svg(obj, tmp, dots, frame, nudge))
+            OUT.atomic(stem + ".svg", lambda tmp: OUT.export_svg(sc, obj, tmp, frame))
             pr = result.progress
             log(f"frame {frame}: {result.strokes.count()} strokes, {pr.outlines} outlines after {pr.iterations} "
                 f"iterations; wrote {stem}.png, .svg ({time.perf_counter() - t:.1f} s)")

@@ -3,6 +3,7 @@ that build a drawing up, one object per model, PNG/.blend/SVG outputs, and the s
 strokes through the command line and the operator."""
 import io
 import os
+import re
 import xml.etree.ElementTree as ET
 
 import bpy
@@ -108,6 +109,19 @@ def test_render_command_writes_png_blend_and_svg(ext, example, tmp_path):
     assert spans.max() > 0.8 and min(rows[0], cols[0], 767 - rows[-1], 767 - cols[-1]) > 10, (rows, cols)
     root = ET.parse(svg).getroot()
     paths = [e for e in root.iter() if e.tag.endswith(("path", "polyline", "polygon"))]
+    # the SVG is the PNG's drawing, line on line: on a page of the picture's size, every
+    # point of the outlines lies on the PNG's ink
+    assert root.get("viewBox") == "0 0 768 768"
+    outline = next(g for g in root if g.get("id") == "layer.Silhouette")
+    xy = np.concatenate([np.array([float(v) for v in re.findall(r"-?\d+\.?\d*", p.get("d"))]).reshape(-1, 2)
+                         for p in outline])
+    dark = np.pad(px.mean(axis=2) < 0.8, 1)
+    near = np.zeros_like(dark)
+    for dy in (-1, 0, 1):                                              # within a pixel
+        for dx in (-1, 0, 1):
+            near |= np.roll(np.roll(dark, dy, 0), dx, 1)
+    col, row = np.clip(xy[:, 0].astype(int) + 1, 0, 769), np.clip(767 - xy[:, 1].astype(int) + 1, 0, 769)
+    assert near[row, col].mean() > 0.98, near[row, col].mean()
     bpy.ops.wm.open_mainfile(filepath=str(blend))
     gp = [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
     assert len(gp) == 1 and bpy.context.scene.camera is not None

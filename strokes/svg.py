@@ -1,0 +1,74 @@
+"""The command line's SVG: the drawing's strokes projected through the scene camera
+onto a page of the rendered picture's size, so that the SVG and the PNG show one
+drawing, line on line. Each stroke is a path whose width is its points' mean width on
+the page and whose opacity is their mean opacity (round caps and joins, no fill), each
+stipple a filled circle, grouped by layer (``<g id="layer.NAME">``) in the drawing's
+order. Widths stay stroke widths, so they can be changed in any SVG editor."""
+from dataclasses import dataclass
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+MIN_WIDTH = 0.05            # px: the thinnest line or dot written (a narrower one would not show)
+
+
+@dataclass(frozen=True)
+class Lens:
+    """A camera as the page sees through it: its position ``eye`` and ``axes`` (columns:
+    right, up, backwards), and its frame, one unit ahead (perspective) or at any depth
+    (``ortho``): its centre and half width and height, on the camera's right and up."""
+    eye: np.ndarray
+    axes: np.ndarray
+    centre: tuple
+    half: tuple
+    ortho: bool = False
+
+    def project(self, P):
+        """Points (n, 3) on a page one unit wide and high (x right, y down, 0..1 in the
+        frame), and how many page widths a scene unit across the view at each makes."""
+        rel = (np.asarray(P, float).reshape(-1, 3) - np.asarray(self.eye, float)) @ np.asarray(self.axes, float)
+        depth = np.ones(len(rel)) if self.ortho else -rel[:, 2]
+        if not (depth > 0).all():
+            raise ValueError("the drawing reaches behind the camera: the page cannot show it")
+        uv = rel[:, :2] / depth[:, None] - np.asarray(self.centre, float)
+        half = np.asarray(self.half, float)
+        page = np.stack([0.5 + 0.5 * uv[:, 0] / half[0], 0.5 - 0.5 * uv[:, 1] / half[1]], axis=1)
+        return page, 1.0 / (2 * half[0] * depth)
+
+
+def srgb(c):
+    """A linear colour channel (0..1) in sRGB."""
+    c = min(max(float(c), 0.0), 1.0)
+    return 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055
+
+
+def write(path, layers, lens, size, colour):
+    """Write ``layers`` ({name: [strokes.data.Stroke]} in scene coordinates) as an SVG
+    page ``size`` = (width, height) pixels seen through ``lens``, in ``colour`` (linear
+    RGB, 0..1, as Blender's materials hold it; written in sRGB, as the PNG shows it)."""
+    width, height = (float(v) for v in size)
+    ink = "#" + "".join(f"{int(round(255 * srgb(c))):02x}" for c in colour[:3])
+    out = ['<?xml version="1.0" encoding="UTF-8"?>',
+           f'<svg xmlns="http://www.w3.org/2000/svg" version="1.1" width="{width:g}px" height="{height:g}px" '
+           f'viewBox="0 0 {width:g} {height:g}">']
+    for name, strokes in layers.items():
+        if not strokes:
+            continue
+        out.append(f'<g id={quoteattr("layer." + name)} fill="none" stroke={quoteattr(ink)} '
+                   'stroke-linecap="round" stroke-linejoin="round">')
+        for s in strokes:
+            page, per_unit = lens.project(s.points)
+            xy = page * (width, height)
+            w = max(float(np.mean(2 * np.asarray(s.radius, float) * per_unit)) * width, MIN_WIDTH)
+            alpha = float(np.clip(np.mean(s.opacity), 0.0, 1.0))
+            if s.dots or len(xy) == 1:
+                for x, y in xy:
+                    out.append(f'<circle cx="{x:.3f}" cy="{y:.3f}" r="{w / 2:.3f}" fill={quoteattr(ink)} '
+                               f'stroke="none" fill-opacity="{alpha:.3f}"/>')
+                continue
+            d = "M" + "L".join(f"{x:.3f},{y:.3f}" for x, y in xy) + ("Z" if s.cyclic else "")
+            out.append(f'<path d="{d}" stroke-width="{w:.3f}" stroke-opacity="{alpha:.3f}"/>')
+        out.append("</g>")
+    out.append("</svg>")
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write("\n".join(out) + "\n")
