@@ -1,10 +1,12 @@
 """Rendering frames (`blender -b file.blend -a`, Render Animation, Render Image): each
 frame a render reaches is illustrated before it renders, through the pipeline, for
-every tree with an ink object and its *Illustrate Rendered Frames* on, unless the ink
-already has a drawing of that frame made otherwise (a bake, the artist's own run at
-that frame), or shows one, its own or held over from an earlier frame, made from all
-this frame's job is made from (model, light, style, seed, settings) for the very same
-eye (a still model drawn once, seen by a still camera): those are used as they are.
+every tree drawn in the scene (its ink or its preview is in it) with its *Illustrate
+Rendered Frames* on, unless the ink already has a drawing of that frame made otherwise
+(a bake, the artist's own run at that frame), or shows one, its own or held over from
+an earlier frame, made from all this frame's job is made from (model, light, style,
+seed, settings) for the very same eye (a still model drawn once, seen by a still
+camera): those are used as they are. A bake's or the artist's drawing drawn for another
+model or viewpoint than the frame's is rendered as it is, and the console says so.
 The frame is illustrated as the render's depsgraph evaluates it (objects, animation),
 in the frame change handler the render calls before it renders the frame."""
 import traceback
@@ -15,7 +17,10 @@ from .. import pipeline as PL
 from ..blobtree_nodes import handlers
 from ..blobtree_nodes.animation import DriverError
 from ..blobtree_nodes.compile import TreeError
+from ..grease_pencil import views
+from ..model import Evaluator
 from . import frames as FR
+from . import jobs
 from .common import blobtrees, ink_name
 
 _rendering = []                # a render is under way (between its init and its end)
@@ -23,6 +28,7 @@ _drew = []                     # (tree, frame) drawn by the render under way
 _undo_wanted = []              # a render drew frames: the main thread's timer makes them an undo step
 UNDO_POLL = 0.5                # seconds between the timer's looks
 _previous = {}                 # tree name -> what its last rendered frame left the next (during a render)
+_warned = []                   # (tree, frame) whose kept drawing the render under way said does not fit
 drawn = []                     # (tree, frame) drawn by renders in this session (for tests and the console)
 
 
@@ -31,12 +37,14 @@ def illustrate(scene, depsgraph=None):
     frame = scene.frame_current
     done = []
     for tree in blobtrees():
-        if not tree.ink.render_frames or bpy.data.objects.get(ink_name(tree)) is None:
+        if not tree.ink.render_frames or not _in_scene(tree, scene):
             continue
-        if frame in FR.drawn_frames(tree) and frame not in FR.rendered_frames(tree):
-            continue
+        kept = frame in FR.drawn_frames(tree) and frame not in FR.rendered_frames(tree)
         try:
             job, _ = FR.frame_job(tree, scene, depsgraph)
+            if kept:                           # a bake's or the artist's: used as it is, said when it no longer fits
+                _say_unfit(tree, job, frame)
+                continue
             if FR.holds(tree, job, frame):     # a drawing made from all this frame's job is: used as it is
                 continue
             ill = PL.Illustration(job, previous=_previous.get(tree.name), remember=True)
@@ -52,11 +60,35 @@ def illustrate(scene, depsgraph=None):
     return done
 
 
+def _in_scene(tree, scene):
+    """Whether the tree is drawn in the scene: its ink, or its preview, is in it (a tree
+    kept only by its fake user is not)."""
+    return any(o is not None and scene in o.users_scene
+               for o in (bpy.data.objects.get(ink_name(tree)), tree.preview_object))
+
+
+def _say_unfit(tree, job, frame):
+    """Print (once a render) which layers of a drawing the render keeps were drawn for
+    another model or viewpoint than the frame's."""
+    obj = bpy.data.objects.get(ink_name(tree))
+    if obj is None or (tree.name, frame) in _warned:
+        return
+    centre, radius = PL.bounds(Evaluator(job.model))
+    unfit = views.unfit(obj, job.owned_layers(), frame, PL.view_eye(job.view, centre, radius), centre,
+                        jobs.model_key(job))
+    if unfit:
+        _warned.append((tree.name, frame))
+        said = "; ".join(f"{name} {jobs.WHY[why][0]}" for name, why in unfit.items())
+        print(f"BlobTree Ink: frame {frame} of '{tree.name}' is rendered with the drawing it has: {said} "
+              "(bake again, or clear the frame, to draw it anew)")
+
+
 @bpy.app.handlers.persistent
 def _render_init(*_args):
     _rendering[:] = [True]
     _previous.clear()
     _drew.clear()
+    _warned.clear()
 
 
 @bpy.app.handlers.persistent

@@ -262,3 +262,30 @@ def test_a_render_uses_a_drawing_held_over_while_it_fits_the_frames_model_and_vi
     sun.rotation_euler.x += 0.3
     bpy.context.view_layer.update()
     assert render(6) == [6]
+
+
+def test_a_render_draws_a_tree_never_drawn_and_says_when_a_bake_it_keeps_is_out_of_date(ext, example, capsys):
+    """F12 right after an import draws the model (its preview stays out of renders: the
+    picture would be blank paper); a baked frame is rendered as it is, and once the
+    model has changed the console says which layers no longer fit."""
+    from aimed_camera import aimed_camera
+    R = mod(ext, "operators.render_frames")
+    FR = mod(ext, "operators.frames")
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    tree, sc = bpy.data.node_groups["pear"], bpy.context.scene
+    tree.ink.grid_resolution = 12
+    aimed_camera((0.0, -9.0, 2.0), (0.0, 0.0, 0.5))
+    sc.render.engine = "BLENDER_WORKBENCH"
+    sc.render.resolution_x = sc.render.resolution_y = 64
+    sc.frame_set(2)
+    assert bpy.data.objects.get("pear Ink") is None
+    bpy.ops.render.render(write_still=False)
+    assert ("pear", 2) in R.drawn and FR.drawn_frames(tree) == {2}
+    assert bpy.ops.blobtree_ink.bake(tree_name="pear", frame_start=3, frame_end=3) == {"FINISHED"}
+    [n for n in tree.nodes if n.label == "belly"][0].radius *= 1.1
+    sc.frame_set(3)
+    capsys.readouterr()
+    bpy.ops.render.render(write_still=False)
+    said = capsys.readouterr().out
+    assert ("pear", 3) not in R.drawn                                   # the bake's drawing, kept
+    assert "frame 3 of 'pear' is rendered with the drawing it has: Silhouette drawn before the model changed" in said
