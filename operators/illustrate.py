@@ -32,7 +32,7 @@ from ..blobtree_nodes.compile import TreeError, compile_document, same_model
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
 from ..grease_pencil import views
 from ..grease_pencil.writer import ink_object, stroke_count, write, write_layer
-from ..strokes.data import LAYER_OF_KIND
+from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
 from ..model import Evaluator
 from . import frames as FR
 from . import jobs, region_overlay
@@ -79,7 +79,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
     def description(cls, context, properties):
         if properties.preset != NO_PRESET:
             return (f"Draw the {properties.preset.replace('_', ' ').lower()} look: {PRESET_TIPS[properties.preset]}. "
-                    "What other looks and requests drew stays (Ink Layers hides or clears it)")
+                    "It replaces the strokes another look drew (Ctrl+Z brings them back); traced lines and "
+                    "single strokes stay")
         return REQUEST_TIPS[properties.request]
 
     # --- setting up ------------------------------------------------------------------
@@ -123,7 +124,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink),
                        self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse)
         obj, frame = bpy.data.objects.get(ink_name(tree)), context.scene.frame_current
-        self.unfit = {}                 # the layers a look clears once done: drawn for another viewpoint or model
+        self.unfit = {}                 # the layers a look clears once done: {layer: why}
         if obj is not None:             # what is drawn already, and for which viewpoint and model
             look = self.preset != NO_PRESET
             elsewhere = jobs.drawn_elsewhere(obj, job, frame, *framing())
@@ -131,8 +132,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                     and set(jobs.traced_layers(job)) & set(elsewhere):
                 job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
                 elsewhere = {n: w for n, w in elsewhere.items() if n not in job.owned_layers()}
-            if look:
-                self.unfit = elsewhere
+            if look:                    # ... and clears the strokes another look drew
+                others = [n for n in STROKE_LAYERS if n not in job.owned_layers() and n not in elsewhere
+                          and n in obj.data.layers and FR.strokes_at(obj.data.layers[n], frame)]
+                self.unfit = {**elsewhere, **dict.fromkeys(others, jobs.ANOTHER_LOOK)}
             else:
                 note = jobs.elsewhere_note(elsewhere, job)
                 self.notes += [note] if note else []

@@ -190,8 +190,10 @@ def traced_layers(job):
     return [LAYER_OF_KIND[k] for k in job.settings.kinds]
 
 
+ANOTHER_LOOK = "look"        # why a look clears a layer: its style draws none (another look's strokes)
 WHY = {views.VIEWPOINT: ("drawn for another viewpoint", "for this one"),
-       views.MODEL: ("drawn before the model changed", "again")}
+       views.MODEL: ("drawn before the model changed", "again"),
+       ANOTHER_LOOK: ("not in this look", "")}
 
 
 def elsewhere_note(unfit, job):
@@ -201,7 +203,7 @@ def elsewhere_note(unfit, job):
     when there are none)."""
     placed = [STYLE_LAYERS[k] for k in job.style.stroke_switches()]
     say = []
-    for why, (drawn, redrawn) in WHY.items():
+    for why, (drawn, redrawn) in ((w, WHY[w]) for w in (views.VIEWPOINT, views.MODEL)):
         layers = [n for n, w in unfit.items() if w == why]
         traced = [n for n in layers if n in traced_layers(job)]
         for names, what in ((traced, f"Trace Feature Outlines draws {{}} {redrawn}"),

@@ -30,7 +30,10 @@ def set_up(example, name="pear"):
     return tree
 
 
-def test_looks_build_a_drawing_up_and_presets_change_only_the_look(example):
+def test_a_look_replaces_another_looks_strokes_and_presets_change_only_the_look(example):
+    """A look is one drawing: it keeps the traced outlines (not traced again) and clears
+    the strokes another look drew (said; Ctrl+Z brings them back)."""
+    run = __import__("bl_ext.user_default.blobtree_ink.operators.illustrate", fromlist=["x"]).last_run
     tree = set_up(example)
     tree.ink.grid_resolution, tree.ink.agents, tree.ink.seed, tree.ink.lod = 12, 5000, 7, 0.3
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
@@ -42,8 +45,8 @@ def test_looks_build_a_drawing_up_and_presets_change_only_the_look(example):
     assert np.array_equal(points(after["Silhouette"]), points(outlines["Silhouette"]))     # not traced again
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
     hatched = layers_of("pear")
-    assert len(hatched["Hatching"]) > 20
-    assert np.array_equal(points(hatched["Stipples"]), points(after["Stipples"]))          # the stipples stay
+    assert len(hatched["Hatching"]) > 20 and hatched["Stipples"] == []                     # the stipples go
+    assert run["warnings"][-1] == "Stipples cleared: not in this look (Ctrl+Z brings it back)"
     assert np.array_equal(points(hatched["Silhouette"]), points(outlines["Silhouette"]))
     # the looks set the style alone
     ink = tree.ink
@@ -155,7 +158,8 @@ def test_a_render_shows_every_layer_as_ink_on_white_paper(example, tmp_path, eng
     set_up(example)
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="OUTLINES") == {"FINISHED"}
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
-    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="HATCHED") == {"FINISHED"}
+    bpy.data.node_groups["pear"].ink.hatching = True                    # stipples and hatching: one request
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", request="PLACE_STROKES") == {"FINISHED"}
     sc = bpy.context.scene
     sc.render.engine = engine
     sc.render.resolution_x = sc.render.resolution_y = 400

@@ -250,10 +250,16 @@ def test_real_ui_an_artists_first_hour(user_dir, tmp_path):
     assert esc["Hatching"] >= held["Hatching"] and 0 < esc["Hatching"] < full["Hatching"], (esc, full)
     assert runs["hatched_esc"]["fraction"] < 1.0
     every = {"Silhouette": True, "Crease": True, "Curvature": True, "Stipples": True}
-    assert facts["same_after_esc"] == every and facts["same_after_full"] == every
+    assert facts["same_after_esc"] == every
+    # the hatched look run to its end is one drawing: the stipples of the stippled look go, the outlines stay
+    assert facts["same_after_full"] == dict(every, Stipples=False) and full["Stipples"] == 0
+    assert facts["full_warnings"][-1] == "Stipples cleared: not in this look (Ctrl+Z brings it back)"
     # a request after a look: the look's settings were not applied again, its hatching kept
     assert runs["outlines_after_look"]["state"] == "done" and facts["hatching_after_request"] is False
     assert facts["counts_after_request"]["Hatching"] == full["Hatching"]
+    # Place Strokes with both ticked: hatching and stipples together (a request builds the drawing up)
+    assert runs["place_strokes"]["state"] == "done"
+    assert facts["counts_placed"]["Hatching"] == full["Hatching"] and facts["counts_placed"]["Stipples"] > 100
     # 6. F12 in the scene's engine (EEVEE in factory settings), then in Workbench
     renders = facts["renders"]
     assert renders["scene"]["engine"] == "BLENDER_EEVEE" and renders["workbench"]["engine"] == "BLENDER_WORKBENCH"

@@ -23,9 +23,11 @@ sent by xdotool wherever the UI allows. Python set-up (and why) is marked [Pytho
 4. F3, "stippled", Return (Object > BlobTree Ink > Looks > Stippled); the end awaited.
 5. The runner's hook armed in the hatching [Python: CHUNK 40, so that the hatching has
    dozens of parts; held after 20 of them]; F3, "hatched", Return; when the worker holds
-   and its parts are drawn: a screenshot, Escape, the run's end. Then F3 "hatched" again,
-   to its end (the full count). Then the style's hatching switched off [Python] and F3
+   and its parts are drawn: a screenshot, Escape, the run's end (the stipples stay).
+   Then F3 "hatched" again, to its end (the full count): one drawing, it clears the
+   stippled look's stipples. Then the style's hatching switched off [Python] and F3
    "trace feature outlines" again: the outlines alone, the hatched look not run again.
+   Then hatching and stipples ticked [Python] and F3 "place strokes": both together.
 6. F12 with the mouse over the 3D viewport in the scene's engine (EEVEE in factory
    settings) [Python: the resolution at 50 %, 960 x 540; the Render Result saved with
    save_render]; the engine switched to Workbench [Python] and F12 again, with the mouse
@@ -299,7 +301,7 @@ def run():
     runs["hatched_full"] = yield from run_look(ill, win, vregion, "hatched", 240)
     yield from redrawn(view3d)
     after_full = {k: drawing_of(ink, k) for k in ("Silhouette", "Crease", "Curvature", "Stipples")}
-    record(counts_full=counts(ink),
+    record(counts_full=counts(ink), full_warnings=ill.last_run.get("warnings"),
            same_after_full={k: len(after4[k]) == len(after_full[k]) and
                             all(np.array_equal(a, b) for a, b in zip(after4[k], after_full[k])) for k in after4})
     yield {"action": "screenshot", "name": "first_hour_5_hatched_full.png"}
@@ -311,6 +313,9 @@ def run():
     tree.ink.hatching = False                                      # [Python] a change the look would undo
     runs["outlines_after_look"] = yield from run_look(ill, win, vregion, "trace feature outlines", 240)
     record(hatching_after_request=tree.ink.hatching, counts_after_request=counts(ink))
+    tree.ink.hatching = tree.ink.stipples = True                   # [Python] both, for one request
+    runs["place_strokes"] = yield from run_look(ill, win, vregion, "place strokes", 240)
+    record(counts_placed=counts(ink))
     record(runs={k: {f: v.get(f) for f in ("state", "strokes", "stage", "fraction", "iterations")}
                  for k, v in runs.items()})
 
