@@ -172,8 +172,11 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                         fraction=progress.fraction, stage=progress.stage)
         return progress
 
-    def _failed(self, e):
-        self.report({"ERROR"}, str(e))
+    def _failed(self, e, level="ERROR"):
+        """A run that cannot start: said (an error for scripts and background runs; in the
+        UI a warning, in the status bar: an error's popup would take the keys, and the
+        sidebar already shows what is wrong), nothing drawn."""
+        self.report({level}, str(e))
         return {"CANCELLED"}
 
     # --- running -----------------------------------------------------------------------
@@ -198,7 +201,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         try:
             self._start(context)
         except START_ERRORS as e:
-            return self._failed(e)
+            return self._failed(e, "WARNING")
         self.runner = PL.Runner(self.illustration).start()
         self.shown = None
         self.stopping = None
