@@ -1,5 +1,5 @@
 """The command line's outputs from a scene holding an illustration: DIR/NAME.png
-(rendered), DIR/NAME.svg (the drawing through the scene camera: strokes.svg) and
+(rendered), DIR/NAME.svg (the drawing through the scene camera: grease_pencil.svg) and
 DIR/NAME.blend. Every output is written to a temporary
 name in DIR and renamed into place, so a failed or interrupted run never leaves a
 half-written file or replaces a good one."""
@@ -9,7 +9,7 @@ from dataclasses import replace
 import bpy
 import numpy as np
 
-from ..strokes import svg
+from . import svg
 from .writer import INK, read_layer
 
 
@@ -44,7 +44,7 @@ def save_blend(tmp):
 def export_svg(scene, obj, tmp, frame):
     """Write the ink object's drawing shown on ``frame`` (its layers that render) as an
     SVG seen through the scene camera, on a page of the rendered picture's size
-    (strokes.svg): line on line with the PNG."""
+    (grease_pencil.svg): line on line with the PNG."""
     cam = scene.camera
     if cam is None or cam.type != "CAMERA":
         raise OutputError("the scene has no camera to draw the SVG through")
@@ -64,7 +64,7 @@ def export_svg(scene, obj, tmp, frame):
 
 
 def lens(scene, cam):
-    """The scene camera as the SVG's page sees through it (strokes.svg.Lens): its
+    """The scene camera as the SVG's page sees through it (grease_pencil.svg.Lens): its
     frame as Blender makes it for the scene's render (sensor fit, aspect, lens shift)."""
     corners = np.array([tuple(v) for v in cam.data.view_frame(scene=scene)], float)
     ortho = cam.data.type == "ORTHO"

@@ -1,16 +1,25 @@
-"""strokes.svg: the drawing's strokes on an SVG page, projected through a camera."""
+"""grease_pencil.svg: the drawing's strokes on an SVG page, projected through a camera
+(plain numpy; the command line's outputs use it)."""
 import xml.etree.ElementTree as ET
+from importlib import import_module
 
 import numpy as np
 import pytest
 
-from blobtree_ink.strokes import svg
-from blobtree_ink.strokes.data import Stroke
-
 AXES = np.eye(3)                     # right x, up y, looking down -z
 
 
-def test_a_lens_maps_its_frame_onto_the_page():
+@pytest.fixture
+def svg(ext):
+    return import_module(f"{ext.__name__}.grease_pencil.svg")
+
+
+@pytest.fixture
+def Stroke(ext):
+    return import_module(f"{ext.__name__}.strokes.data").Stroke
+
+
+def test_a_lens_maps_its_frame_onto_the_page(svg):
     """The frame's centre is the page's, its edges the page's edges (y down); a lens
     shift moves the frame's centre off the axis; an orthographic lens does not divide
     by the depth; a point behind the camera is refused."""
@@ -26,7 +35,7 @@ def test_a_lens_maps_its_frame_onto_the_page():
         lens.project([[0, 0, 1.0]])
 
 
-def test_the_page_holds_a_path_per_stroke_and_a_circle_per_stipple(tmp_path):
+def test_the_page_holds_a_path_per_stroke_and_a_circle_per_stipple(svg, Stroke, tmp_path):
     lens = svg.Lens(np.zeros(3), AXES, centre=(0.0, 0.0), half=(0.5, 0.5))
     line = Stroke(np.array([[-1.0, 0, -4], [1.0, 0, -4]]), np.full(2, 0.01), np.array([1.0, 0.5]), cyclic=True)
     dot = Stroke(np.array([[0.0, 1.0, -4]]), np.full(1, 0.02), np.ones(1), dots=True)
