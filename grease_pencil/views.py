@@ -80,16 +80,37 @@ def other_model(obj, layers, frame, model):
 
 def holds(obj, layers, frame, eye, made):
     """Whether each of ``layers`` shows a drawing on ``frame`` (the key at or before it)
-    kept as drawn for this very ``eye`` (within SAME_EYE) and from all that is ``made``
+    kept as drawn for this very ``eye`` (:func:`drawn_at`) and from all that is ``made``
     (pipeline.Job.making): a render can use it as it is."""
     shown = list(_shown(obj, layers, frame))
-    if not shown or len(shown) < len(layers):
-        return False
-    views, kept = obj.get(KEY, {}), obj.get(MADE, {})
+    kept = obj.get(MADE, {}) if shown else {}
+    return len(shown) == len(layers) > 0 and all(kept.get(key) == made for _, key, _ in shown) and \
+        drawn_at(obj, layers, frame, eye, strict=True)
+
+
+def drawn_at(obj, layers, frame, eye, strict=False):
+    """Whether the drawings ``layers`` show on ``frame`` were drawn for this very ``eye``
+    (within SAME_EYE): those with strokes, a drawing with no eye kept counting as
+    drawn there; with ``strict``, every one, and each must have its eye kept."""
+    views = obj.get(KEY, {}) if obj is not None else {}
     eye = np.asarray(eye, float)
     near = SAME_EYE * max(1.0, float(np.linalg.norm(eye)))
-    return all(kept.get(key) == made and not isinstance(views.get(key, MIXED), str)
-               and float(np.linalg.norm(np.asarray(views[key][:3], float) - eye)) <= near for _, key, _ in shown)
+    for _, key, strokes in _shown(obj, layers, frame):
+        if not (strokes or strict):
+            continue
+        kept = views.get(key, MIXED if strict else None)
+        if kept is None:
+            continue
+        if isinstance(kept, str) or float(np.linalg.norm(np.asarray(kept[:3], float) - eye)) > near:
+            return False
+    return True
+
+
+def shown_frame(layer, frame):
+    """The layer's key shown on ``frame`` (its last at or before it: Grease Pencil holds
+    a drawing until the next key), or None before its first."""
+    keys = [f for f in layer.frames if f.frame_number <= frame]
+    return max(keys, key=lambda f: f.frame_number) if keys else None
 
 
 def _shown(obj, layers, frame):
@@ -99,9 +120,8 @@ def _shown(obj, layers, frame):
         return
     for name in layers:
         layer = obj.data.layers.get(name)
-        keys = [f for f in (layer.frames if layer is not None else []) if f.frame_number <= frame]
-        if keys:
-            shown = max(keys, key=lambda f: f.frame_number)
+        shown = None if layer is None else shown_frame(layer, frame)
+        if shown is not None:
             yield name, _key(name, shown.frame_number), len(shown.drawing.strokes)
 
 

@@ -113,17 +113,10 @@ def write_set(obj, stroke_set, frame=1):
     return obj
 
 
-def shown_frame(layer, frame):
-    """The layer's key shown on ``frame`` (its last at or before it: Grease Pencil holds
-    a drawing until the next key), or None before its first."""
-    keys = [f for f in layer.frames if f.frame_number <= frame]
-    return max(keys, key=lambda f: f.frame_number) if keys else None
-
-
 def read_layer(obj, name, frame):
     """The strokes of layer ``name``'s drawing shown on ``frame`` as plain strokes
     (strokes.data.Stroke, in the object's coordinates): what :func:`write_layer` wrote."""
-    key = shown_frame(obj.data.layers[name], frame)
+    key = views.shown_frame(obj.data.layers[name], frame)
     n = len(key.drawing.strokes) if key is not None else 0
     if not n:
         return []

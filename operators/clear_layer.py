@@ -5,7 +5,6 @@ import bpy
 
 from ..grease_pencil import views
 from .common import InkLayerOperator
-from .frames import shown_key
 
 
 class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):
@@ -16,7 +15,7 @@ class BLOBTREE_INK_OT_clear_layer(InkLayerOperator, bpy.types.Operator):
     tip = "Remove this layer's strokes at this frame (its drawing held here)"
 
     def act(self, context, layer):
-        key = shown_key(layer, context.scene.frame_current)
+        key = views.shown_frame(layer, context.scene.frame_current)
         n = len(key.drawing.strokes) if key is not None else 0
         if n:
             key.drawing.remove_strokes()

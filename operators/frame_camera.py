@@ -11,6 +11,7 @@ from mathutils import Vector
 
 from .. import pipeline as PL
 from ..blobtree_nodes.compile import TreeError, compile_document
+from ..grease_pencil import render as OUT
 from ..grease_pencil.scene import CAMERA, look_rotation
 from ..model import Evaluator
 from ..pipeline.framing import LENS, SENSOR
@@ -61,12 +62,9 @@ def outline_points(tree, centre, radius):
     """Scene points whose frame holds the model: its preview's vertices (the model as
     the artist sees it), or without a preview the corners of the cube about its
     bounding sphere."""
-    obj = tree.preview_object
-    if obj is not None and obj.data is not None and len(obj.data.vertices):
-        co = np.empty(3 * len(obj.data.vertices), np.float32)
-        obj.data.vertices.foreach_get("co", co)
-        m = np.array(obj.matrix_world, float)
-        return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+    points = jobs.preview_points(tree)
+    if points is not None:
+        return points
     cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
     return centre + radius * cube
 
@@ -81,23 +79,21 @@ def frame(scene, cam, centre, points):
     (n, 3) with the framing margin: a perspective camera at the nearest distance that
     does, an orthographic one zoomed to it (and set back far enough to see them all)."""
     world = cam.matrix_world.copy()
-    axes = np.array(world.to_3x3().normalized(), float)              # columns: right, up, backwards
-    rel = (np.asarray(points, float) - centre) @ axes                 # the points about the centre, in camera axes
-    corners = np.array([tuple(v) for v in cam.data.view_frame(scene=scene)], float)
-    half, mid = 0.5 * np.ptp(corners[:, :2], axis=0), corners[:, :2].mean(axis=0)
+    lens = OUT.lens(scene, cam)            # the frame one unit ahead (orthographic: at any depth)
+    half, mid = np.asarray(lens.half), np.asarray(lens.centre)
+    rel = (np.asarray(points, float) - centre) @ lens.axes           # the points about the centre, in camera axes
     reach = float(np.linalg.norm(rel, axis=1).max())
     data = cam.data
     in_front = float(rel[:, 2].max()) + data.clip_start + NEAR * reach          # every point past the near clip
-    if data.type == "ORTHO":
+    if lens.ortho:
         zoom = PL.ortho_fit(rel, half)
         data.ortho_scale *= zoom
-        back = max(float(np.dot(np.array(world.translation) - centre, axes[:, 2])), in_front)
+        back = max(float(np.dot(lens.eye - centre, lens.axes[:, 2])), in_front)
         place = np.array([-zoom * mid[0], -zoom * mid[1], back])
     else:
-        depth = float(np.abs(corners[:, 2]).max())
-        back = max(PL.perspective_fit(rel, half / depth, mid / depth), in_front)
-        place = back * np.array([-mid[0] / depth, -mid[1] / depth, 1.0])
-    world.translation = Vector(tuple(centre + axes @ place))
+        back = max(PL.perspective_fit(rel, half, mid), in_front)
+        place = back * np.array([-mid[0], -mid[1], 1.0])
+    world.translation = Vector(tuple(centre + lens.axes @ place))
     cam.matrix_world = world
     data.clip_start = min(data.clip_start, NEAR * reach)
     data.clip_end = max(data.clip_end, FAR * (float(np.linalg.norm(place)) + reach))

@@ -67,13 +67,6 @@ def write_frame(tree, result, frame, rendered=False):
     return obj
 
 
-def shown_key(layer, frame):
-    """The layer's key shown at ``frame`` (its last at or before it: Grease Pencil holds
-    a drawing until the next key), or None before its first."""
-    keys = [f for f in layer.frames if f.frame_number <= frame]
-    return max(keys, key=lambda f: f.frame_number) if keys else None
-
-
 def shown_counts(obj, frame):
     """{layer: the strokes of its drawing shown at ``frame``} of a Grease Pencil object
     (0 before a layer's first key)."""
@@ -82,7 +75,7 @@ def shown_counts(obj, frame):
 
 def strokes_at(layer, frame):
     """The strokes of a layer's drawing shown at a frame (0 before its first key)."""
-    key = shown_key(layer, frame)
+    key = views.shown_frame(layer, frame)
     return len(key.drawing.strokes) if key is not None else 0
 
 
@@ -94,7 +87,7 @@ def end_hold(obj, frame):
     drawing is no drawn frame). Returns the layers that got one."""
     ended = []
     for layer in obj.data.layers:
-        shown = shown_key(layer, frame)
+        shown = views.shown_frame(layer, frame)
         if shown is not None and len(shown.drawing.strokes) and \
                 all(f.frame_number != frame + 1 for f in layer.frames):
             layer.frames.new(frame + 1)

@@ -158,8 +158,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
 
     def _clear_unfit(self):
         """A look that ran to its end is one drawing: the layers it left that were drawn
-        for another viewpoint or model are cleared (said in the report; Ctrl+Z brings
-        them back)."""
+        for another viewpoint or model, or by another look, are cleared (said in the
+        report; Ctrl+Z brings them back)."""
         if self.unfit:
             obj = ink_object(self.obj_name)
             for name in self.unfit:

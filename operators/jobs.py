@@ -76,18 +76,28 @@ def off_camera(scene, tree):
     sample of at most CAMERA_SAMPLES, in the frame and in front of the camera), else
     None (also without a camera or a preview)."""
     from bpy_extras.object_utils import world_to_camera_view
-    cam, obj = scene.camera, tree.preview_object
-    if cam is None or obj is None or obj.data is None or not len(obj.data.vertices):
+    cam, co = scene.camera, preview_points(tree)
+    if cam is None or co is None:
         return None
-    co = np.empty(3 * len(obj.data.vertices), np.float32)
-    obj.data.vertices.foreach_get("co", co)
-    co = co.reshape(-1, 3)[::max(1, len(co) // 3 // CAMERA_SAMPLES)]
-    seen = np.array([tuple(world_to_camera_view(scene, cam, obj.matrix_world @ Vector(c))) for c in co.tolist()])
+    co = co[::max(1, len(co) // CAMERA_SAMPLES)]
+    seen = np.array([tuple(world_to_camera_view(scene, cam, Vector(c))) for c in co.tolist()])
     inside = float(np.mean((seen[:, 2] > 0) & (seen[:, :2] >= 0).all(axis=1) & (seen[:, :2] <= 1).all(axis=1)))
     if inside >= IN_CAMERA:
         return None
     return (f"'{tree.name}' is {'outside' if inside == 0 else 'partly outside'} the scene camera's view: Frame "
             "Camera (beside From Camera) aims it at the model, or untick From Camera")
+
+
+def preview_points(tree):
+    """The vertices of the tree's preview mesh in the scene (n, 3): the model as the
+    artist sees it; None without a preview."""
+    obj = tree.preview_object
+    if obj is None or obj.data is None or not len(obj.data.vertices):
+        return None
+    co = np.empty(3 * len(obj.data.vertices), np.float32)
+    obj.data.vertices.foreach_get("co", co)
+    m = np.array(obj.matrix_world, float)
+    return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
 
 
 ORTHO_DISTANCE = 100.0      # an orthographic view's eye: this many model radii back along its direction

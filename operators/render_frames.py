@@ -73,9 +73,11 @@ def _say_unfit(tree, job, frame):
     obj = bpy.data.objects.get(ink_name(tree))
     if obj is None or (tree.name, frame) in _warned:
         return
-    centre, radius = PL.bounds(Evaluator(job.model))
-    unfit = views.unfit(obj, job.owned_layers(), frame, PL.view_eye(job.view, centre, radius), centre,
-                        jobs.model_key(job))
+    layers = job.owned_layers()
+    unfit = dict.fromkeys(views.other_model(obj, layers, frame, jobs.model_key(job)), views.MODEL)
+    if not unfit and (job.view is None or not views.drawn_at(obj, layers, frame, job.view.eye)):
+        centre, radius = PL.bounds(Evaluator(job.model))        # (only to tell another viewpoint)
+        unfit = views.unfit(obj, layers, frame, PL.view_eye(job.view, centre, radius), centre)
     if unfit:
         _warned.append((tree.name, frame))
         said = "; ".join(f"{name} {jobs.WHY[why][0]}" for name, why in unfit.items())

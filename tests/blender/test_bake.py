@@ -282,10 +282,20 @@ def test_a_render_draws_a_tree_never_drawn_and_says_when_a_bake_it_keeps_is_out_
     bpy.ops.render.render(write_still=False)
     assert ("pear", 2) in R.drawn and FR.drawn_frames(tree) == {2}
     assert bpy.ops.blobtree_ink.bake(tree_name="pear", frame_start=3, frame_end=3) == {"FINISHED"}
-    [n for n in tree.nodes if n.label == "belly"][0].radius *= 1.1
-    sc.frame_set(3)
-    capsys.readouterr()
-    bpy.ops.render.render(write_still=False)
-    said = capsys.readouterr().out
+    belly = [n for n in tree.nodes if n.label == "belly"][0]
+    radius = belly.radius
+
+    def render_3():
+        sc.frame_set(3)
+        capsys.readouterr()
+        bpy.ops.render.render(write_still=False)
+        return capsys.readouterr().out
+    assert "BlobTree Ink: frame 3" not in render_3()                    # the bake fits: nothing said
+    belly.radius = radius * 1.1
+    said = render_3()
     assert ("pear", 3) not in R.drawn                                   # the bake's drawing, kept
     assert "frame 3 of 'pear' is rendered with the drawing it has: Silhouette drawn before the model changed" in said
+    belly.radius = radius
+    sc.camera.location.x += 2.0                                        # the camera moves away from the bake's
+    bpy.context.view_layer.update()
+    assert "Silhouette drawn for another viewpoint" in render_3()
