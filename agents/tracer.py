@@ -169,6 +169,11 @@ def refine_seeds(surface, kinds, a, b, tol, crease_angle, pause=None):
         Tc = unit(cross(na[c], nb[c]))
         X0 = crease_estimate(a[c], b[c], na[c], nb[c], mid)
         Xc, gAc, gBc, _, gc, conv = yield from sheets.crease_newton_steps(surface, X0, mid, Tc, pins[c], WEDGE * w, tol)
+        met = np.flatnonzero(conv)
+        if len(met):            # the pinned sheets may meet past a junction: not the bracket's crease
+            conv[met] = (yield from sheets.switches_steps(surface, Xc[met], surface.normals(gAc[met]),
+                                                          surface.normals(gBc[met]), b[c[met]] - a[c[met]],
+                                                          SIDE * w[met]))[0]
         got = c[conv]
         X[got], gX[got], A[got], B[got] = Xc[conv], gc[conv], a[got], b[got]
         nA[got], nB[got] = surface.normals(gAc[conv]), surface.normals(gBc[conv])

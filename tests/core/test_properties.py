@@ -88,6 +88,10 @@ def session_of(doc, kinds=Settings.kinds, resolution=12):
                                     "circle_radius": 1.0, "radius": 1.25}]},
     {"type": "blend", "children": [{"type": "point", "center": [0.0, 0.0, 0.0], "radius": 0.3},
                                    {"type": "segment", "a": [0.0, 0.0, 1.0], "b": [0.0, 0.0, 0.5], "radius": 1.25}]}]}})
+@example({"format": "blobtree-1", "root": {"type": "intersection", "children": [   # sheets meeting past a junction
+    {"type": "point", "center": [0.0, 0.0, 0.25], "radius": 1.0},
+    {"type": "union", "children": [{"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.0},
+                                   {"type": "segment", "a": [0.0, 0.0, 0.0], "b": [0.0, 1.0, 0.0], "radius": 0.5}]}]}})
 def test_generated_models_trace_right(doc):
     s, eye = session_of(doc)
     if s is None:
