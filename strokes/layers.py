@@ -21,7 +21,7 @@ from ..model import keyed
 from ..model.curvature import curvature
 from ..model.vectors import cross
 from .data import Stroke
-from .visibility import visible_runs
+from .visibility import piece, run_points, visible_runs
 
 FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
 TURN = np.radians(45.0)      # a principal direction this far from a smarticle's heading is noise
@@ -145,9 +145,10 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
     marks = [None] * len(sizes) if keys is None else np.asarray(keys)[kept].tolist()
     out = []
     for k, runs in enumerate(visible_runs(ev, P, sizes, eye, N, min_points)):
-        for a, b in runs:
-            a, b = at[k] + a, at[k] + b
-            out.append(Stroke(P[a:b], r[a:b], o[a:b], mark=None if marks[k] is None else int(marks[k])))
+        for run in runs:
+            run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
+            out.append(Stroke(run_points(P, run), piece(r, run), piece(o, run),
+                              mark=None if marks[k] is None else int(marks[k])))
     return out
 
 

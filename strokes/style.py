@@ -15,7 +15,7 @@ from ..model.vectors import cross
 from . import layers as L
 from . import smarticles as sm
 from .data import LAYER_OF_KIND, Stroke, StrokeSet
-from .visibility import split_visible_many
+from .visibility import piece, run_points, split_visible_many
 
 LAYER_SWITCHES = ("outlines", "hatching", "stipples", "chains", "short")
 STROKE_SWITCHES = ("hatching", "chains", "short", "stipples")        # the stroke layers, in drawing order
@@ -181,15 +181,16 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
         polys.append(pts)
         norms.append(nrm)
     for o, pts, nrm, runs in zip(outlines, polys, norms, split_visible_many(ev, polys, eye, norms)):
-        whole = o.closed and runs == [(0, len(pts))]
-        for a, b in runs:
-            end = b - 1 if whole else b
-            seg = pts[a:end]
+        whole = o.closed and len(runs) == 1 and runs[0][:2] == (0, len(pts))
+        for run in runs:
+            if whole:
+                run = run._replace(b=run.b - 1)
+            seg = run_points(pts, run)
             if o.kind in SPECKLED and np.linalg.norm(np.diff(seg, axis=0), axis=1).sum() < SPECK * o.step:
                 continue
             if light is None:
                 r = np.full(len(seg), float(radius))
             else:
-                r, _ = L.tone(L.lighting(nrm[a:end], light), 1.0, radius, 0.5 * contrast)
+                r, _ = L.tone(L.lighting(piece(nrm, run), light), 1.0, radius, 0.5 * contrast)
             out.add(LAYER_OF_KIND[o.kind], Stroke(seg, r, np.ones(len(seg)), cyclic=whole))
     return out

@@ -4,16 +4,64 @@ A point is visible when the segment from it to the eye does not enter the solid
 (f >= iso). Segments are marched in one batch: each starts a small offset off the
 surface towards the eye, is clipped to the surface's box (blackboard.polygonise.
 surface_box: outside it the field stays below iso), and is sampled at a fixed fraction
-of the model's size. Strokes are split where
-visibility changes and the hidden parts dropped.
+of the model's size. Strokes are split where visibility changes and the hidden parts
+dropped; each visible run ends where its line really goes behind the surface, found by
+bisecting the step between its last visible point and the next hidden one (so a line
+that passes behind another meets it, not a step short of it). A line's own grazing
+surface hides a point or two of it where the ray leaves the surface almost along it:
+such a short gap, hit within GRAZE marching steps of its start, between visible
+points of the same line, is not a gap.
 """
+from typing import NamedTuple
+
 import numpy as np
 
 from ..blackboard.polygonise import surface_box
+from ..model.projection import project
 
 
 MARCH_BATCH = 4096          # points a ray-march call aims at
 MAX_AHEAD = 32              # samples of one ray a call takes at most
+GRAZE = 3                   # a hit within this many marching steps of a ray's start may be the line's own grazing surface
+GRAZE_POINTS = 2            # ... and a gap of at most this many such points between visible ones is drawn through
+END_HALVINGS = 5            # bisections of the step where a visible run ends (to 1/32 of the step)
+ONTO_STEPS = 4              # Newton steps that put such an end, on the step's chord, onto the surface
+
+
+class Run(NamedTuple):
+    """A visible run of a polyline: its points a..b-1, and how far the line stays
+    visible into the step before a (``lead``) and after b-1 (``trail``), as shares of
+    those steps (0: it goes behind the surface at the point itself), with the surface
+    points there (``head``, ``tail``; None where the share is 0)."""
+    a: int
+    b: int
+    lead: float = 0.0
+    trail: float = 0.0
+    head: object = None
+    tail: object = None
+
+
+def piece(values, run):
+    """The values (normals, radii, ...) of a polyline along a :class:`Run`: rows
+    a..b-1, with the values where the run really begins and ends interpolated into the
+    steps before and after them."""
+    V = np.asarray(values)
+    head = V[run.a] + run.lead * (V[run.a - 1] - V[run.a]) if run.lead > 0 else None
+    tail = V[run.b - 1] + run.trail * (V[run.b] - V[run.b - 1]) if run.trail > 0 else None
+    return _between(head, V[run.a:run.b], tail)
+
+
+def run_points(P, run):
+    """The points of a polyline along a :class:`Run`: its points, and the surface
+    points where the run really begins and ends."""
+    return _between(run.head, np.asarray(P)[run.a:run.b], run.tail)
+
+
+def _between(head, mid, tail):
+    if head is None and tail is None:
+        return mid
+    parts = [np.asarray(x, mid.dtype).reshape((1,) + mid.shape[1:]) for x in (head, tail) if x is not None]
+    return np.concatenate(([parts.pop(0)] if head is not None else []) + [mid] + parts)
 
 
 def _clip(O, D, lo, hi):
@@ -31,12 +79,23 @@ def _clip(O, D, lo, hi):
 
 def visible(ev, P, eye, normals=None, step=None, offset=None):
     """Boolean visibility of points P (n,3) seen from eye."""
+    return ~np.isfinite(hits(ev, P, eye, normals, step, offset))
+
+
+def march_step(ev):
+    """The distance between a ray's samples (and its start's offset off the surface)."""
+    return 2e-3 * ev.scale
+
+
+def hits(ev, P, eye, normals=None, step=None, offset=None):
+    """How far along the segment from each point P (n,3) towards the eye, from its
+    start (``offset`` off the surface), the first sample inside the solid is: inf where
+    none is (the point is visible)."""
     P = np.asarray(P, float)
     if len(P) == 0:
-        return np.zeros(0, bool)
-    scale = ev.scale
-    step = step if step is not None else 2e-3 * scale
-    offset = offset if offset is not None else 2e-3 * scale
+        return np.zeros(0)
+    step = step if step is not None else march_step(ev)
+    offset = offset if offset is not None else march_step(ev)
     to_eye = eye - P
     dist = np.linalg.norm(to_eye, axis=1)
     u = to_eye / dist[:, None]
@@ -47,7 +106,7 @@ def visible(ev, P, eye, normals=None, step=None, offset=None):
     box = surface_box(ev)                           # where f >= iso can be (else the support's)
     lo, hi = box if box is not None else ev.bounds
     t0, t1 = _clip(start, D, lo, hi)
-    vis = np.ones(len(P), bool)
+    at = np.full(len(P), np.inf)
     live = np.flatnonzero(t1 > t0)
     length = np.linalg.norm(D, axis=1)
     k = 0
@@ -65,20 +124,22 @@ def visible(ev, P, eye, normals=None, step=None, offset=None):
             f = np.full(t.shape, -np.inf)
             f[inside] = ev.field(Q[inside.reshape(-1)])
         hit = f >= ev.iso
-        vis[live[hit.any(axis=1)]] = False
-        live = live[~hit.any(axis=1) & inside[:, -1]]
+        got = hit.any(axis=1)
+        rows = np.flatnonzero(got)
+        at[live[rows]] = t[rows, hit[rows].argmax(axis=1)] * length[live[rows]]
+        live = live[~got & inside[:, -1]]
         k += b
-    return vis
+    return at
 
 
 def split_visible(ev, stroke_points, eye, normals=None, min_points=2):
-    """[(start, end)] index ranges of the visible runs of a polyline."""
+    """The visible runs (:class:`Run`) of a polyline."""
     return split_visible_many(ev, [stroke_points], eye, None if normals is None else [normals], min_points)[0]
 
 
 def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
     """The visible runs of many polylines, marched as one batch (one field evaluation
-    per ray-march step for all their points): a list of [(start, end)] per polyline."""
+    per ray-march step for all their points): a list of :class:`Run` s per polyline."""
     if not polylines:
         return []
     sizes = np.array([len(p) for p in polylines])
@@ -90,7 +151,64 @@ def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
 def visible_runs(ev, P, sizes, eye, normals=None, min_points=2):
     """:func:`split_visible_many` of polylines given as their points one after the other
     (``P``, with their ``normals``) and their lengths (``sizes``)."""
-    return _runs(visible(ev, P, eye, normals), np.asarray(sizes, np.int64), min_points)
+    sizes = np.asarray(sizes, np.int64)
+    d = hits(ev, P, eye, normals)
+    v = _through_grazes(np.isfinite(d), d <= GRAZE * march_step(ev), sizes)
+    return _ends(ev, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes)
+
+
+def _through_grazes(hidden, grazed, sizes):
+    """Visibility (not ``hidden``) with each gap of at most GRAZE_POINTS hidden points
+    that are all ``grazed``, between visible points of its own polyline, drawn through."""
+    v = ~hidden
+    line = np.repeat(np.arange(len(sizes)), sizes)
+    local = np.arange(len(v)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    d = np.diff(np.concatenate([[0], hidden.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    if len(starts) == 0:
+        return v
+    far = np.concatenate([[0], np.cumsum(~grazed)])
+    inner = (line[starts] == line[ends - 1]) & (local[starts] > 0) & (local[ends - 1] < sizes[line[starts]] - 1)
+    fill = inner & (ends - starts <= GRAZE_POINTS) & (far[ends] == far[starts])
+    for a, b in zip(starts[fill].tolist(), ends[fill].tolist()):
+        v[a:b] = True
+    return v
+
+
+def _ends(ev, P, normals, eye, runs, first, sizes):
+    """The runs (per polyline, index ranges) as :class:`Run` s, each end that meets a
+    hidden point of its polyline moved to where the line goes behind the surface: the
+    step between the two is bisected END_HALVINGS times (on the chord, the normals
+    interpolated), all ends in one batch."""
+    P = np.asarray(P, float)
+    N = None if normals is None else np.asarray(normals, float)
+    ends = []                              # (polyline, run, 0 lead / 1 trail, visible index, hidden index)
+    for k, rs in enumerate(runs):
+        for j, (a, b) in enumerate(rs):
+            if a > 0:
+                ends.append((k, j, 0, first[k] + a, first[k] + a - 1))
+            if b < sizes[k]:
+                ends.append((k, j, 1, first[k] + b - 1, first[k] + b))
+    out = [[Run(a, b) for a, b in rs] for rs in runs]
+    if not ends:
+        return out
+    E = np.array(ends, np.int64)
+    vis, hid = E[:, 3], E[:, 4]
+    lo, hi = np.zeros(len(E)), np.ones(len(E))         # shares of the step from the visible point
+    for _ in range(END_HALVINGS):
+        s = 0.5 * (lo + hi)
+        Q = P[vis] + s[:, None] * (P[hid] - P[vis])
+        Nq = None
+        if N is not None:
+            Nq = N[vis] + s[:, None] * (N[hid] - N[vis])
+            Nq /= np.maximum(np.linalg.norm(Nq, axis=1, keepdims=True), 1e-300)
+        seen = visible(ev, Q, eye, Nq)
+        lo, hi = np.where(seen, s, lo), np.where(seen, hi, s)
+    X, _, _ = project(ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # the chord's sag: onto the surface
+    for (k, j, side, _, _), s, x in zip(ends, lo.tolist(), X):
+        if s > 0:
+            out[k][j] = out[k][j]._replace(trail=s, tail=x) if side else out[k][j]._replace(lead=s, head=x)
+    return out
 
 
 def _runs(v, sizes, min_points):

@@ -193,8 +193,8 @@ def test_batched_visibility_equals_one_stroke_at_a_time():
     x = np.linspace(-1.0, 1.0, 60)
     polys = [np.stack([x, 3 + dy + 0 * x, 0.5 * dy + 0 * x], 1) for dy in (-0.3, 0.0, 0.3)]
     polys.append(np.array([[2.0, 0.0, 0.0]]))
-    one = [split_visible(ev, p, eye) for p in polys]
-    many = split_visible_many(ev, polys, eye)
+    one = [[r[:4] for r in split_visible(ev, p, eye)] for p in polys]
+    many = [[r[:4] for r in rs] for rs in split_visible_many(ev, polys, eye)]
     assert one == many
     for r, dy in zip(many[:3], (-0.3, 0.0, 0.3)):     # the middle of each line is behind the front sphere
         W = (9 + dy) * K / math.sqrt(36 - K * K)              # the sphere's shadow cone at the line's depth

@@ -4,6 +4,7 @@ import numpy as np
 from blobtree_ink import model as M
 from blobtree_ink.agents import Outline
 from blobtree_ink.strokes import StrokeSet, split_visible, visible
+from blobtree_ink.strokes import visibility as V
 from blobtree_ink.strokes.visibility import split_visible_many
 
 
@@ -32,7 +33,7 @@ def test_strokes_are_split_where_visibility_changes():
     pts = np.stack([x, np.full_like(x, 3 - 0.46), np.zeros_like(x)], axis=1)
     runs = split_visible(ev, pts, eye)
     assert len(runs) == 2
-    (a0, a1), (b0, b1) = runs
+    (a0, a1), (b0, b1) = (r[:2] for r in runs)
     assert a0 == 0 and b1 == len(x)
     hidden = x[a1:b0]
     # the shadow of ball 1 (radius r at distance 10 from the eye) on the plane y = 2.54
@@ -51,11 +52,69 @@ def test_many_strokes_are_split_as_each_alone():
     front = np.stack([0.3 * x, np.full_like(x, -1.0), np.zeros_like(x)], axis=1)      # between the eye and ball 1
     lines = [across, front[:5], np.zeros((0, 3)), across[20:29], front[:1], across[::-1], front[:2]]
     for m in (1, 2, 3):
-        assert split_visible_many(ev, lines, eye, min_points=m) == \
-            [split_visible_many(ev, [p], eye, min_points=m)[0] if len(p) else [] for p in lines]
-    got = split_visible_many(ev, lines, eye)
+        many = split_visible_many(ev, lines, eye, min_points=m)
+        alone = [split_visible_many(ev, [p], eye, min_points=m)[0] if len(p) else [] for p in lines]
+        assert [[r[:4] for r in rs] for rs in many] == [[r[:4] for r in rs] for rs in alone]
+        for rs, qs in zip(many, alone):
+            for r, q in zip(rs, qs):
+                for e, f in ((r.head, q.head), (r.tail, q.tail)):
+                    assert (e is None and f is None) or np.array_equal(e, f)
+    got = [[r[:2] for r in rs] for rs in split_visible_many(ev, lines, eye)]
     assert got[1] == [(0, 5)] and got[2] == [] and got[3] == [] and got[4] == [] and got[6] == [(0, 2)]
     assert got[5] == [(0, len(x) - got[0][1][0]), (len(x) - got[0][0][1], len(x))]
+
+
+def test_a_visible_run_ends_where_its_line_goes_behind_the_surface():
+    """A coarse arc over the second ball's front, seen past the first ball from the
+    side: the visible run starts, on the surface, where the ray from the arc really
+    clears the first ball (not at the first visible point, up to a whole step on)."""
+    ev = two_balls()
+    eye = np.array([1.5, -10.0, 0.0])
+    r = -float(V.project(ev, np.array([[0.0, -0.5, 0.0]]), 30)[0][0, 1])          # the balls' radius at iso
+    th = np.linspace(-1.2, 1.2, 13)                                                 # steps of 0.2 rad, ~0.09 long
+    arc = np.stack([r * np.sin(th), 3 - r * np.cos(th), 0 * th], axis=1)
+    normals = (arc - [0, 3, 0]) / r
+    (run,), = split_visible_many(ev, [arc], eye, [normals])
+
+    def clear_of_ball_one(t):                # how far the ray from the arc at angle t passes from ball 1
+        X = np.array([r * np.sin(t), 3 - r * np.cos(t), 0.0])
+        d = (X - eye) / np.linalg.norm(X - eye)
+        return np.linalg.norm(eye - (eye @ d) * d) - r
+
+    lo, hi = th[run.a - 1], th[run.a]        # the shadow's edge on the arc, between them
+    assert clear_of_ball_one(lo) < 0 < clear_of_ball_one(hi)
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if clear_of_ball_one(mid) < 0 else (lo, mid)
+    edge = np.array([r * np.sin(hi), 3 - r * np.cos(hi), 0.0])
+    assert run.b == len(arc) and run.tail is None and run.head is not None and 0 < run.lead < 1
+    assert abs(ev.field(run.head[None])[0] - ev.iso) < 1e-9
+    assert np.linalg.norm(run.head - edge) < 0.005 < 0.05 < np.linalg.norm(arc[run.a] - edge)
+    pts = V.run_points(arc, run)
+    assert len(pts) == run.b - run.a + 1 and np.array_equal(pts[0], run.head)
+    assert np.allclose(V.piece(normals, run)[0], normals[run.a] + run.lead * (normals[run.a - 1] - normals[run.a]))
+
+
+def test_hits_are_how_far_the_ray_goes_before_it_enters_the_solid():
+    ev = two_balls()
+    eye = np.array([0.0, -10.0, 0.0])
+    r = 0.4543
+    P = np.array([[0.0, 3 - r, 0.0], [0.0, -r, 0.0]])          # behind ball 1; ball 1's own front
+    d = V.hits(ev, P, eye)
+    step = V.march_step(ev)
+    assert abs(d[0] - (3 - 2 * r - step)) <= step and np.isinf(d[1])
+
+
+def test_a_gap_of_a_point_or_two_hit_close_by_is_drawn_through():
+    """Hidden runs of at most GRAZE_POINTS points, every one hit within GRAZE steps,
+    between visible points of their own polyline, are the line's own grazing surface;
+    longer ones, ones hit further off, and ones at a polyline's end are real gaps."""
+    hidden = np.array([0, 1, 0, 1, 1, 0, 1, 1, 1, 0, 1, 0, 1, 1, 1, 0, 1, 0, 1], bool)
+    grazed = np.array([0, 1, 0, 1, 1, 0, 1, 1, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1], bool)
+    sizes = np.array([14, 5])       # each ends hidden; the second starts hidden too
+    v = V._through_grazes(hidden, grazed, sizes)
+    assert v.astype(int).tolist() == [1, 1, 1, 1, 1, 1, 0, 0, 0, 1, 0, 1, 0, 0] + [0, 1, 1, 1, 0]
+    assert (V.GRAZE_POINTS, V.GRAZE) == (2, 3)
 
 
 def test_stroke_set_from_outlines():
