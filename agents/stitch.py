@@ -14,6 +14,10 @@ import numpy as np
 from ..blackboard.board import pairs_within
 from ..blackboard.keys import unique_rows
 
+REACH = 1.6         # ends pointing at each other are joined across up to this many links
+AHEAD = 0.8         # ... each end's direction within about 37 degrees of the gap's
+SAME_SHEET = 0.95   # ... and their normals within about 18 degrees
+
 
 def stitch(outlines, link, make):
     out = []
@@ -25,6 +29,7 @@ def stitch(outlines, link, make):
         P, N = _merge_close(P, N, link / 8.0)
         near = _Near(P, link)
         used = [False] * len(P)
+        chains = []
         for start in range(len(P)):
             if used[start]:
                 continue
@@ -32,11 +37,104 @@ def stitch(outlines, link, make):
             fwd = near.walk(used, start, None)
             bwd = near.walk(used, start, fwd[0] if fwd else None)
             idx = bwd[::-1] + [start] + fwd
-            if len(idx) < 2:
-                continue
-            closed = len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < link
+            if len(idx) >= 2:
+                chains.append(idx)
+        for idx, closed in join_ends(P, N, chains, link):
             out.append(make(kind, P[idx], N[idx], bool(closed)))
     return out
+
+
+def join_ends(P, N, chains, link):
+    """Chains (index lists into P) whose ends face each other across a gap a little
+    wider than ``link`` (at most REACH times it), nearest pair first, joined into one:
+    each end's own direction points across the gap to the other end (within AHEAD), and
+    the normals there agree (within SAME_SHEET). Two traces of one curve stop where each
+    meets the other, sometimes a few steps short; a gap this narrow between ends that
+    point at each other is that curve's, not a junction's. Returns (indices, closed)
+    per joined chain (closed: its own two ends within ``link``, or pieces joined round)."""
+    ends = [(c, e) for c, idx in enumerate(chains) for e in (0, 1) if not _closed(P, idx, link)]
+    partner = {}
+    if len(ends) >= 2:
+        tip = np.array([chains[c][0] if e == 0 else chains[c][-1] for c, e in ends])
+        back = np.array([chains[c][1] if e == 0 else chains[c][-2] for c, e in ends])
+        out_dir = P[tip] - P[back]
+        out_dir /= np.maximum(np.linalg.norm(out_dir, axis=1, keepdims=True), 1e-300)
+        owner = np.array([c for c, _ in ends])
+        i, j = pairs_within(P[tip], P[tip], REACH * link)
+        keep = (i < j) & (owner[i] != owner[j])
+        i, j = i[keep], j[keep]
+        gap = P[tip[j]] - P[tip[i]]
+        dist = np.linalg.norm(gap, axis=1)
+        g = gap / np.maximum(dist, 1e-300)[:, None]
+        ok = ((np.einsum("ij,ij->i", out_dir[i], g) >= AHEAD) & (np.einsum("ij,ij->i", out_dir[j], -g) >= AHEAD)
+              & (np.einsum("ij,ij->i", N[tip[i]], N[tip[j]]) >= SAME_SHEET))
+        for k in np.flatnonzero(ok)[np.argsort(dist[ok], kind="stable")].tolist():
+            x, y = ends[i[k]], ends[j[k]]
+            if x not in partner and y not in partner:
+                partner[x], partner[y] = y, x
+    _reach_across(P, N, chains, [x for x in ends if x not in partner], link)
+    out, seen = [], set()
+
+    def walk(c, e):
+        """The chain c entered at its end e, and those joined on beyond its other end."""
+        idx, closed = [], False
+        while c not in seen:
+            seen.add(c)
+            idx += chains[c] if e == 0 else chains[c][::-1]
+            nxt = partner.get((c, 1 - e))
+            if nxt is None:
+                break
+            c, e = nxt
+            closed = c in seen
+        return idx, closed
+
+    for c in range(len(chains)):                    # pieces with a free end first, from that end
+        for e in (0, 1):
+            if c not in seen and (c, e) not in partner:
+                idx, _ = walk(c, e)
+                out.append((idx, _closed(P, idx, link)))
+    for c in range(len(chains)):                    # what is left: pieces joined round
+        if c not in seen:
+            out.append(walk(c, 0))
+    return out
+
+
+def _closed(P, idx, link):
+    """Whether a chain's ends meet (within ``link``; it has more than three points)."""
+    return len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < link
+
+
+def _reach_across(P, N, chains, free, link):
+    """Free ends (chain, 0 start / 1 end) reach the nearest point of another chain that
+    lies ahead of them (within REACH links and AHEAD of their direction) on the same
+    sheet (SAME_SHEET): it becomes their chain's last point.
+    A trace stops short where it meets another outline, and where it met that one's
+    middle (a cusp, a junction) no free point was left there for the chaining to take."""
+    if not free or len(chains) < 2:
+        return
+    tip = np.array([chains[c][0] if e == 0 else chains[c][-1] for c, e in free])
+    back = np.array([chains[c][1] if e == 0 else chains[c][-2] for c, e in free])
+    d = P[tip] - P[back]
+    d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    every = np.concatenate([np.asarray(idx) for idx in chains])
+    owner = np.repeat(np.arange(len(chains)), [len(idx) for idx in chains])
+    i, j = pairs_within(P[tip], P[every], REACH * link)
+    mine = np.array([c for c, _ in free])
+    i, j = i[owner[j] != mine[i]], j[owner[j] != mine[i]]
+    gap = P[every[j]] - P[tip[i]]
+    dist = np.linalg.norm(gap, axis=1)
+    ok = ((np.einsum("ij,ij->i", d[i], gap) >= AHEAD * dist)
+          & (np.einsum("ij,ij->i", N[tip[i]], N[every[j]]) >= SAME_SHEET) & (dist > 0))
+    i, j, dist = i[ok], j[ok], dist[ok]
+    order = np.lexsort((dist, i))
+    first = np.ones(len(order), bool)
+    first[1:] = i[order][1:] != i[order][:-1]
+    for k, q in zip(i[order][first].tolist(), every[j[order][first]].tolist()):
+        c, e = free[k]
+        if e == 0:
+            chains[c].insert(0, q)
+        else:
+            chains[c].append(q)
 
 
 def _merge_close(P, N, r):

@@ -1,0 +1,82 @@
+"""Stitching traced fragments into whole outlines: ends that point at each other across
+a gap wider than the chaining's link are joined, and a free end reaches the middle of
+another outline it points at; ends that do not point at each other, or lie on other
+sheets, stay apart."""
+import numpy as np
+
+from blobtree_ink.agents.outline import Outline
+from blobtree_ink.agents.stitch import AHEAD, REACH, stitch
+
+STEP = 0.1
+LINK = 2.5 * STEP
+UP = np.array([0.0, 0.0, 1.0])
+
+
+def piece(points, normal=UP):
+    P = np.asarray(points, float)
+    return Outline("silhouette", P, np.tile(normal, (len(P), 1)), False, STEP)
+
+
+def line(x0, x1, y=0.0):
+    """Points every STEP along x from x0 to x1 (either way) at height y."""
+    n = int(round(abs(x1 - x0) / STEP)) + 1
+    return np.stack([np.linspace(x0, x1, n), np.full(n, y), np.zeros(n)], axis=1)
+
+
+def stitched(*pieces):
+    return stitch(list(pieces), LINK, lambda kind, P, N, closed: Outline(kind, P, N, closed, STEP))
+
+
+def test_ends_pointing_at_each_other_across_a_wide_gap_are_joined():
+    gap = 3.5 * STEP                                     # wider than a link, within REACH links
+    assert LINK < gap < REACH * LINK
+    out = stitched(piece(line(0.0, 1.0)), piece(line(1.0 + gap + 1.0, 1.0 + gap)))     # the second runs back
+    assert len(out) == 1 and not out[0].closed
+    x = out[0].points[:, 0]
+    assert len(x) == 22 and (np.all(np.diff(x) > 0) or np.all(np.diff(x) < 0))
+
+
+def test_pieces_joined_round_are_closed():
+    """A circle in four arcs, each stopped short of the next by more than a link: one
+    closed outline."""
+    R, gap = 2.0, 3.5 * STEP
+    arcs = []
+    for k in range(4):
+        t0, t1 = k * np.pi / 2, (k + 1) * np.pi / 2 - gap / R
+        t = np.linspace(t0, t1, int(round((t1 - t0) * R / STEP)) + 1)
+        arcs.append(np.stack([R * np.cos(t), R * np.sin(t), 0 * t], axis=1))
+    out = stitched(*[piece(p) for p in arcs])
+    assert len(out) == 1 and out[0].closed and len(out[0].points) == sum(len(p) for p in arcs)
+
+
+def test_ends_that_do_not_point_at_each_other_stay_apart():
+    """Parallel lines side by side, a line ending beside another's end at a right
+    angle, and a gap beyond REACH links are not joined."""
+    side = stitched(piece(line(0.0, 1.0)), piece(line(1.3, 2.3, y=0.3)))
+    assert len(side) == 2
+    far = stitched(piece(line(0.0, 1.0)), piece(line(1.0 + 1.2 * REACH * LINK, 3.0)))
+    assert len(far) == 2
+    across = np.stack([np.full(11, 1.3), np.linspace(0.35, 1.35, 11), np.zeros(11)], axis=1)
+    bent = stitched(piece(line(0.0, 1.0)), piece(across))
+    assert len(bent) == 2 and {len(o.points) for o in bent} == {11}
+
+
+def test_ends_on_two_sheets_stay_apart():
+    tilted = np.array([0.0, np.sin(0.5), np.cos(0.5)])          # normals 29 degrees apart: a crease's sides
+    out = stitched(piece(line(0.0, 1.0)), piece(line(1.35, 2.35), tilted))
+    assert len(out) == 2
+
+
+def test_a_free_end_reaches_the_middle_of_an_outline_it_points_at():
+    """A trace stopped short of another outline's middle (a junction, a cusp) ends on it;
+    one that passes beside it at an angle further than AHEAD does not."""
+    main = piece(line(0.0, 2.0))
+    towards = np.stack([np.full(8, 1.0), np.linspace(1.0, 0.3, 8), np.zeros(8)], axis=1)      # stops 0.3 short
+    out = stitched(main, piece(towards))
+    branch = [o for o in out if len(o.points) != 21]
+    assert len(out) == 2 and len(branch) == 1 and len(branch[0].points) == 9
+    assert np.allclose(branch[0].points[-1], [1.0, 0.0, 0.0])
+    beyond = towards + np.array([1.25, 0.0, 0.0])           # points down past the line's end
+    off = np.array([2.0, 0.0, 0.0]) - beyond[-1]
+    assert np.linalg.norm(off) < REACH * LINK and np.array([0.0, -1.0, 0.0]) @ off / np.linalg.norm(off) < AHEAD
+    assert sorted(len(o.points) for o in stitched(main, piece(beyond))) == [8, 21]
