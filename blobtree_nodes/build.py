@@ -13,6 +13,7 @@ from ..model import nodes as N
 from . import changes, props
 from .base import input_name, new_input
 from .nodes import LABEL, idname, suspend_socket_updates
+from .tree import blobtrees
 
 COLUMN = 260.0
 ROW = 60.0
@@ -70,12 +71,20 @@ class _NamesFromLabels:
             inst.bl_label = LABEL[kind]
 
 
+def _own_name(tree, name):
+    """The model's name for the tree (its ink is named after it): ``name``, or the
+    tree's own (unique) name where another tree's model has that name already (the
+    same model imported twice must not draw into one ink)."""
+    taken = {t.model_name or t.name for t in blobtrees() if t != tree}
+    return name if name not in taken else tree.name
+
+
 def _build(tree, model):
     tree.nodes.clear()
     out = tree.nodes.new("BlobTreeInkOutputNode")
     out.location = (COLUMN, 0.0)
     _set_iso(tree, model.iso)
-    tree.model_name = model.name
+    tree.model_name = _own_name(tree, model.name)
     where = []                                 # (depth, height) of each node made, in order
     pending_links = []
     stack = [(model.root, 0, out.inputs[0])]

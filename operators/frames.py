@@ -34,12 +34,17 @@ def look_requests(tree):
 
 
 def frame_job(tree, scene, depsgraph=None):
-    """The job of the scene's current frame, and the placement of the model then."""
+    """The job of the scene's current frame (the scene's other models hiding its lines;
+    the console names those whose trees do not compile), and the placement of the model
+    then."""
     model = compile_tree(tree, depsgraph=depsgraph)
     place = jobs.placement(tree, depsgraph)
     ink = tree.ink
+    solids, broken = jobs.occluders(scene, tree, depsgraph)
+    if broken:
+        print(f"BlobTree Ink: frame {scene.frame_current} of '{tree.name}': {jobs.hidden_by_note(broken)}")
     job = jobs.job(model, scene, style_of(ink), jobs.tree_settings(ink), look_requests(tree), ink.seed,
-                   inverse=place.inverted_safe(), depsgraph=depsgraph)
+                   inverse=place.inverted_safe(), depsgraph=depsgraph, occluders=solids)
     return job, place
 
 

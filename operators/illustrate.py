@@ -121,8 +121,10 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             if eye is None:
                 raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
                                   "from the 3D viewport, or switch From Camera on")
+        solids, broken = jobs.occluders(context.scene, tree)
+        self.notes += [jobs.hidden_by_note(broken)] if broken else []
         job = jobs.job(model, context.scene, style_of(ink), jobs.tree_settings(ink),
-                       self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse)
+                       self._requests(context, tree, inverse), ink.seed, eye=eye, inverse=inverse, occluders=solids)
         obj, frame = bpy.data.objects.get(ink_name(tree)), context.scene.frame_current
         self.unfit = {}                 # the layers a look clears once done: {layer: why}
         if obj is not None:             # what is drawn already, and for which viewpoint and model

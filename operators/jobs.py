@@ -4,6 +4,7 @@ lights, a request's region from the selection or the 3D cursor, the style and se
 from the tree; which layers of the ink a job leaves were drawn for another
 viewpoint or model. The operators and the command line build their jobs here, so the same
 scene gives the same job whichever path draws."""
+import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
@@ -15,6 +16,7 @@ from ..grease_pencil import views
 from ..model import Evaluator, fingerprint
 from ..pipeline.job import SINGLE_LAYER, STYLE_LAYERS
 from ..strokes.data import LAYER_OF_KIND, LAYERS
+from .common import blobtrees, ink_name
 
 
 def _world(obj, depsgraph):
@@ -156,20 +158,61 @@ def selection_region(context, tree, inverse):
     return Region(box=(pts.min(0), pts.max(0)))
 
 
-def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, inverse=None, depsgraph=None):
+def job(model, scene, style, settings, requests, seed, eye=None, seconds=None, inverse=None, depsgraph=None,
+        occluders=()):
     """A pipeline job for a model seen by the scene: ``eye`` where given (the
     viewport's), else the scene camera's, else (the pipeline's) a three-quarter view
     framing the model; eye and light taken into the model's coordinates by ``inverse``
     (the inverse placement; default the identity); objects as ``depsgraph`` evaluates
-    them, when given. Nothing is compiled or sampled here: that is the pipeline's work,
-    on its worker."""
+    them, when given; ``occluders``: the scene's other models that can hide its lines
+    (:func:`occluders`). Nothing is sampled here: that is the pipeline's work, on its
+    worker."""
     inverse = Matrix.Identity(4) if inverse is None else inverse
     if eye is None:
         eye = camera_eye(scene, depsgraph)
     light, light_at = scene_light(scene, depsgraph)
     eye = to_model(inverse, eye)
     return PL.Job(model, None if eye is None else View(eye=np.array(eye)), direction_to_model(inverse, light), style,
-                  tuple(requests), seed, settings, seconds, to_model(inverse, light_at))
+                  tuple(requests), seed, settings, seconds, to_model(inverse, light_at), tuple(occluders))
+
+
+def in_scene(tree, scene):
+    """Whether the tree is drawn in the scene: its ink, or its preview, is in it (a tree
+    kept only by its fake user is not)."""
+    return any(o is not None and scene in o.users_scene
+               for o in (bpy.data.objects.get(ink_name(tree)), tree.preview_object))
+
+
+def occluders(scene, tree, depsgraph=None):
+    """The scene's other models that can hide the tree's lines: (Model, matrix from the
+    tree's model coordinates into the other's) of each other tree drawn in the scene
+    (:func:`in_scene`) whose ink is not hidden from renders, as ``depsgraph`` evaluates
+    them (default: the context's); and the names of those left out because their tree
+    does not compile (the caller says so)."""
+    from ..blobtree_nodes.animation import DriverError
+    from ..blobtree_nodes.compile import TreeError, compile_tree
+    solids, broken = [], []
+    to_scene = placement(tree, depsgraph)
+    for other in blobtrees():
+        ink = bpy.data.objects.get(ink_name(other))
+        if other == tree or not in_scene(other, scene) or (ink is not None and ink.hide_render):
+            continue
+        try:
+            model = compile_tree(other, mark=False, depsgraph=depsgraph)
+        except (TreeError, DriverError):
+            broken.append(other.name)
+            continue
+        solids.append((model, np.array(placement(other, depsgraph).inverted_safe() @ to_scene, float)))
+    return tuple(solids), broken
+
+
+def hidden_by_note(broken):
+    """What a run says of the trees that could hide its lines but do not compile (None
+    when there are none)."""
+    if not broken:
+        return None
+    names = ", ".join(f"'{n}'" for n in broken)
+    return f"{names} {'hides' if len(broken) == 1 else 'hide'} no lines: {'its tree is' if len(broken) == 1 else 'their trees are'} broken"
 
 
 def tree_settings(ink):

@@ -37,7 +37,7 @@ def illustrate(scene, depsgraph=None):
     frame = scene.frame_current
     done = []
     for tree in blobtrees():
-        if not tree.ink.render_frames or not _in_scene(tree, scene):
+        if not tree.ink.render_frames or not jobs.in_scene(tree, scene):
             continue
         kept = frame in FR.drawn_frames(tree) and frame not in FR.rendered_frames(tree)
         try:
@@ -58,13 +58,6 @@ def illustrate(scene, depsgraph=None):
         _drew.append((tree.name, frame))
         done.append(tree.name)
     return done
-
-
-def _in_scene(tree, scene):
-    """Whether the tree is drawn in the scene: its ink, or its preview, is in it (a tree
-    kept only by its fake user is not)."""
-    return any(o is not None and scene in o.users_scene
-               for o in (bpy.data.objects.get(ink_name(tree)), tree.preview_object))
 
 
 def _say_unfit(tree, job, frame):

@@ -207,9 +207,8 @@ class Illustration:
         self.requests = tuple(replace(r, region=r.region.region(radius)) if isinstance(r.region, Around) else r
                               for r in j.requests)
         self.line_radius = line_radius(self.ev)
-        self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius,
-                                stroke_unit(self.ev),
-                                settled=prev is not None and prev.ev is self.ev)
+        self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius, stroke_unit(self.ev),
+                                settled=prev is not None and prev.ev is self.ev, sight=LY.sight(self.ev, j.occluders))
         self.session = Session(self.ev, View(eye=self.eye), j.settings,
                                previous=prev.session if prev is not None else None, remember=self.remember)
         vertices = self.session.snapshot(stitch=False).vertices

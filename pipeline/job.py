@@ -8,7 +8,7 @@ import numpy as np
 
 from ..agents import Region, Settings
 from ..blackboard.view import View
-from ..model import Evaluator, Model
+from ..model import Evaluator, Model, fingerprint
 from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
 from ..strokes.style import STROKE_SWITCHES, Style
 
@@ -77,7 +77,9 @@ class Job:
     from the viewer's upper left; ``seed``: the seed of every random
     choice (the settings' seed is replaced by it); ``seconds``: a time budget for the
     agents' iterations (None: run to the end; a budget makes the outlines depend on the
-    machine's speed)."""
+    machine's speed); ``occluders``: the other solids of the scene that can hide the
+    model's lines, (model, matrix) each: a model.Model or model.Evaluator, and the 4x4
+    matrix taking a point of this model's coordinates into that one's."""
     model: object
     view: View = None
     light: tuple = None
@@ -87,6 +89,7 @@ class Job:
     settings: Settings = field(default_factory=Settings)
     seconds: float = None
     light_at: tuple = None
+    occluders: tuple = ()
 
     def checked(self):
         """This job, checked (JobError naming the first bad part)."""
@@ -124,6 +127,12 @@ class Job:
             raise JobError(str(e)) from None
         if not isinstance(self.model, (Evaluator, Model)):
             raise JobError(f"the model must be a model.Model or a model.Evaluator, got {type(self.model).__name__}")
+        for k, occluder in enumerate(self.occluders):
+            if not (isinstance(occluder, tuple) and len(occluder) == 2 and isinstance(occluder[0], (Evaluator, Model))):
+                raise JobError(f"occluder {k} must be a (model, matrix) pair, got {occluder!r:.80}")
+            M = np.asarray(occluder[1], float)
+            if M.shape != (4, 4) or not np.all(np.isfinite(M)) or abs(np.linalg.det(M[:3, :3])) < 1e-12:
+                raise JobError(f"occluder {k}'s matrix must be an invertible 4x4 of finite numbers")
         # one seed: the job's (the sampling's explorers and every stroke layer derive theirs from it)
         return replace(self, requests=tuple(self.requests), seed=int(self.seed),
                        settings=replace(self.settings, seed=int(self.seed)))
@@ -147,10 +156,13 @@ class Job:
 
     def making(self, model_key):
         """A key of what this job's drawing is made from besides the eye: the model (its
-        ``model_key``, model.fingerprint), the light, the style, the seed and the sampling
-        settings. Two checked jobs with one key, seen from one eye, draw alike."""
+        ``model_key``, model.fingerprint), the light, the style, the seed, the sampling
+        settings and the occluders (their models' keys and places). Two checked jobs with
+        one key, seen from one eye, draw alike."""
         light = [None if v is None else [round(float(x), LIGHT_DIGITS) for x in v] for v in (self.light, self.light_at)]
-        text = repr((model_key, light, self.style, self.seed, self.settings))
+        hiding = [(fingerprint(m.model if isinstance(m, Evaluator) else m),
+                   np.round(np.asarray(M, float), LIGHT_DIGITS).tolist()) for m, M in self.occluders]
+        text = repr((model_key, light, self.style, self.seed, self.settings) + ((hiding,) if hiding else ()))
         return hashlib.sha1(text.encode("utf-8")).hexdigest()[:16]
 
     def owned_layers(self):

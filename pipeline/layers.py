@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import keyed
+from ..model import Evaluator, keyed
 from ..model.curvature import curvature
 from ..model.marks import surface_marks
 from ..model.projection import project
@@ -22,6 +22,7 @@ from ..strokes import smarticles as sm
 from ..strokes import stipples as SP
 from ..strokes.data import Stroke
 from ..strokes.style import outline_strokes, view_right
+from ..strokes.visibility import Sight
 
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
 STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii (before its shade's tone)
@@ -41,22 +42,33 @@ class Canvas:
     direction), the radius of a line of width 1 and the strokes' unit of length;
     ``settled``: the model is the last frame's, so likely the next frame's too (the
     smarticles' paths of every mark, kept with it, are made at once: in the next frames
-    the light and the eye only choose among them)."""
+    the light and the eye only choose among them); ``sight``: what hides the lines
+    (strokes.visibility.Sight: the model and the other solids of its scene; None: the
+    model alone)."""
     ev: object
     eye: np.ndarray
     light: np.ndarray
     line_radius: float
     unit: float
     settled: bool = False
+    sight: object = None
 
     def radius(self, st):
         """The radius of the style's lines."""
         return self.line_radius * st.line_width
 
 
+def sight(ev, occluders):
+    """What hides the model's lines (strokes.visibility.Sight): the model and a job's
+    occluders, compiled here; None without occluders (the model alone)."""
+    if not occluders:
+        return None
+    return Sight(ev, tuple((m if isinstance(m, Evaluator) else Evaluator(m), M) for m, M in occluders))
+
+
 def outlines(cv, sampling, st):
     """The visible parts of the outlines found (a StrokeSet of the outline layers)."""
-    return outline_strokes(sampling.outlines, cv.ev, cv.eye, cv.radius(st), cv.light, st.contrast)
+    return outline_strokes(sampling.outlines, cv.ev, cv.eye, cv.radius(st), cv.light, st.contrast, cv.sight)
 
 
 def marks_of(cv, layer, owners, seed):
@@ -92,7 +104,8 @@ def _kept(cv, region, field, *rules):
 
 
 def _common(cv, st, region):
-    return dict(radius=0.6 * cv.radius(st), region=region, contrast=st.contrast, weights=st.resolved_weights())
+    return dict(radius=0.6 * cv.radius(st), region=region, contrast=st.contrast, weights=st.resolved_weights(),
+                sight=cv.sight)
 
 
 # Each stroke layer is drawn in parts (chunks of its starts), one part per pipeline
@@ -166,7 +179,7 @@ def stipples(cv, sampling, st, region, part, drawn=(), spacing=None):
     return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=STIPPLE_RADIUS * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
-                      every_path=cv.settled, drawn=drawn, spacing=spacing)
+                      every_path=cv.settled, drawn=drawn, spacing=spacing, sight=cv.sight)
 
 
 def single_stroke(cv, st, point, seed=0):

@@ -115,9 +115,11 @@ def flock_keys(keys, size):
     return keys if size <= 1 else keyed.combine(keys[:, None], np.arange(size)[None, :]).reshape(-1)
 
 
-def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0, min_points=2, keys=None):
+def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0, min_points=2, keys=None,
+                   sight=None):
     """Smarticle paths as strokes: cut where they leave the shade (or the region),
-    split where they go out of sight (one batched visibility test), toned by the shade;
+    split where they go out of sight (one batched visibility test against ``sight``, a
+    strokes.visibility.Sight: default the model's own solid alone), toned by the shade;
     each stroke keeps its smarticle's key (``keys``) as its mark. All paths' points are
     lit, cut and toned together."""
     if not res.paths:
@@ -144,7 +146,7 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
     r, o = tone(shade, upper, radius, contrast)
     marks = [None] * len(sizes) if keys is None else np.asarray(keys)[kept].tolist()
     out = []
-    for k, runs in enumerate(visible_runs(ev, P, sizes, eye, N, min_points)):
+    for k, runs in enumerate(visible_runs(ev if sight is None else sight, P, sizes, eye, N, min_points)):
         for run in runs:
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
             out.append(Stroke(run_points(P, run), piece(r, run), piece(o, run),
@@ -154,7 +156,7 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
 
 def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.25, upper=0.6, weights=None,
              rules=None, radius=0.003, flock_size=1, region=None, contrast=1.0, salt=0, paths=None,
-             every_path=False, crowding=None):
+             every_path=False, crowding=None, sight=None):
     """Hatching strokes from the marks (model.marks) that fall in shade, following a
     flow field, each heading the way its mark's reference direction says; with
     ``flock_size`` > 1 one mark in flock_size (by its key) spawns a flock, so the
@@ -163,7 +165,8 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
     ``every_path`` those of every mark are made in it, in shade or not (a model seen in
     frame after frame: the light and the eye then only choose among them);
     ``crowding``: a :class:`strokes.crowding.Crowding` that thins the strokes where they
-    run into knots of the layer's strokes so far on the paper, or None."""
+    run into knots of the layer's strokes so far on the paper, or None; ``sight``: as for
+    :func:`shaded_strokes`."""
     flocks = np.ones(len(marks), bool)
     if flock_size > 1:
         flocks = keyed.uniform(marks.keys, salt, FLOCK) * flock_size < 1.0
@@ -186,19 +189,20 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
         run(marks.take(flocks))
     lit = lighting(marks.normals, light)
     res, keys = run(marks.take(flocks & chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))))
-    out = shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys)
+    out = shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys, sight=sight)
     return out if crowding is None else crowding.thinned(out)
 
 
 def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, field="straight", axis=(0, 0, 1),
                   max_distance=None, lower=0.25, upper=0.6, weights=None, max_steps=12, radius=0.003,
-                  region=None, contrast=1.0, features=None):
+                  region=None, contrast=1.0, features=None, sight=None):
     """Strokes started from feature chains (Smarticles 7.2): every ``every``-th point
     of each outline starts a smarticle heading at ``angle`` degrees to the chain,
     towards the viewer for silhouettes (the visible side) and to both sides of a
     crease; strokes end at ``max_distance`` from the feature lines (default 4 steps): the
     points of ``features`` (default: these outlines' own). The outlines' points are no
-    marks: the choices in the penumbra and the smarticles' keys come from ``rng``."""
+    marks: the choices in the penumbra and the smarticles' keys come from ``rng``
+    (``sight``: as for :func:`shaded_strokes`)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the chain density step must be at least 1, got {every}")
@@ -239,15 +243,15 @@ def chain_strokes(ev, outlines, eye, light, step, rng, every=3, angle=90.0, fiel
     keys = rng.integers(0, 1 << 63, len(P), dtype=np.int64).astype(np.uint64)
     res = sm.run(ev, P, direction_field(field, axis, eye), step, weights or sm.PRESETS["hatching"], rules, keys,
                  headings=H)
-    return shaded_strokes(ev, res, eye, light, upper, radius, region, contrast)
+    return shaded_strokes(ev, res, eye, light, upper, radius, region, contrast, sight=sight)
 
 
 def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), steps=3, lower=0.3, upper=0.65,
-                  weights=None, radius=0.003, region=None, contrast=1.0, paths=None, every_path=False):
+                  weights=None, radius=0.003, region=None, contrast=1.0, paths=None, every_path=False, sight=None):
     """Short general strokes centred on the marks (MASSRIS 7 centres them on polygons):
     from each chosen mark a smarticle goes ``steps`` steps each way along the flow
     field; the two halves make one stroke through the mark (``paths``, ``every_path``:
-    as for :func:`hatching`)."""
+    as for :func:`hatching`; ``sight``: as for :func:`shaded_strokes`)."""
     flow = direction_field(field, axis, eye)
     rules = sm.StrokeRules(max_steps=steps, stop_on_curvature_sign=False, max_normal_angle=np.radians(60),
                            region=region)
@@ -272,7 +276,8 @@ def short_strokes(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), ste
     for pf, nf, pb, nb in zip(fwd.paths, fwd.normals, bwd.paths, bwd.normals):
         whole.paths.append(np.vstack([pb[:0:-1], pf]))
         whole.normals.append(np.vstack([nb[:0:-1], nf]))
-    return shaded_strokes(ev, whole, eye, light, upper, radius, region, contrast, min_points=3, keys=m.keys)
+    return shaded_strokes(ev, whole, eye, light, upper, radius, region, contrast, min_points=3, keys=m.keys,
+                          sight=sight)
 
 
 def isotropic(c):

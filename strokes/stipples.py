@@ -16,7 +16,7 @@ STIPPLE_GAP = 1.1       # stipples keep this many times their radii's sum apart 
 
 
 def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
-             region=None, contrast=1.0, paths=None, every_path=False, drawn=(), spacing=None):
+             region=None, contrast=1.0, paths=None, every_path=False, drawn=(), spacing=None, sight=None):
     """One-point strokes at every ``every``-th step of wandering smarticles started at
     the marks in shade: each dot is drawn as its own shade says (in the penumbra at
     random, by its own key: a light tone is no trail of one smarticle's dots), kept
@@ -24,7 +24,8 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     layer's parts before kept, seen or not; a new one without), and the visible ones
     drawn finer where they would touch on the paper (:func:`fitted`, also against the
     dots ``drawn`` before); each dot's mark is its smarticle's key and step (``paths``,
-    ``every_path``: as for :func:`hatching`)."""
+    ``every_path``: as for :func:`hatching`; ``sight``: what hides the dots, a
+    strokes.visibility.Sight: default the model's own solid alone)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")
@@ -56,7 +57,7 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     r, o = tone(shade, upper, radius, contrast)
     apart = (spacing if spacing is not None else Spacing()).keep(D, r, K)
     D, Nn, K, r, o = D[apart], Nn[apart], K[apart], r[apart], o[apart]
-    vis = visible(ev, D, eye, Nn)
+    vis = visible(ev if sight is None else sight, D, eye, Nn)
     D, K, o = D[vis], K[vis], o[vis]
     r = fitted(D, r[vis], eye, drawn)
     room = r > 0                                              # none: under a dot drawn before

@@ -163,8 +163,10 @@ def is_dot(points, radius):
     return len(P) == 0 or float(np.linalg.norm(P.max(axis=0) - P.min(axis=0))) < DOT * 2.0 * radius
 
 
-def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
-    """Visible parts of outlines as plain strokes, each in its :func:`canonical` order;
+def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0, sight=None):
+    """Visible parts of outlines as plain strokes (hidden by ``sight``, a
+    strokes.visibility.Sight: default the model's own solid alone), each in its
+    :func:`canonical` order;
     with a light, the side turned from it is drawn heavier (by ``contrast``). A visible
     piece of a suggestive contour or an apparent ridge shorter than SPECK of its trace
     steps is not drawn: a speck on the paper, not a line (a silhouette's is: the end of
@@ -180,7 +182,7 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0):
             pts, nrm = np.vstack([pts, pts[:1]]), np.vstack([nrm, nrm[:1]])
         polys.append(pts)
         norms.append(nrm)
-    for o, pts, nrm, runs in zip(outlines, polys, norms, split_visible_many(ev, polys, eye, norms)):
+    for o, pts, nrm, runs in zip(outlines, polys, norms, split_visible_many(ev if sight is None else sight, polys, eye, norms)):
         whole = o.closed and len(runs) == 1 and runs[0][:2] == (0, len(pts))
         for run in runs:
             if whole:

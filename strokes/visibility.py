@@ -41,6 +41,25 @@ class Run(NamedTuple):
     tail: object = None
 
 
+class Sight:
+    """What hides a model's lines from the eye: the model's own solid (``ev``, an
+    evaluator) and the other solids of its scene (``others``: (evaluator, matrix) each,
+    the 4x4 matrix taking a point of the model's coordinates into that solid's)."""
+
+    def __init__(self, ev, others=()):
+        self.ev = ev
+        self.others = tuple((o, np.asarray(M, float)) for o, M in others)
+
+    def solids(self):
+        """(evaluator, matrix or None for the model's own coordinates) of every solid."""
+        return ((self.ev, None),) + self.others
+
+
+def sight_of(x):
+    """A :class:`Sight` as given, or the sight of an evaluator's own solid alone."""
+    return x if isinstance(x, Sight) else Sight(x)
+
+
 def piece(values, run):
     """The values (normals, radii, ...) of a polyline along a :class:`Run`: rows
     a..b-1, with the values where the run really begins and ends interpolated into the
@@ -77,9 +96,10 @@ def _clip(O, D, lo, hi):
     return np.maximum(tmin, 0.0), np.minimum(tmax, 1.0)
 
 
-def visible(ev, P, eye, normals=None, step=None, offset=None):
-    """Boolean visibility of points P (n,3) seen from eye."""
-    return ~np.isfinite(hits(ev, P, eye, normals, step, offset))
+def visible(sight, P, eye, normals=None, step=None, offset=None):
+    """Boolean visibility of points P (n,3) seen from eye (``sight``: a :class:`Sight`,
+    or a model's evaluator alone)."""
+    return ~np.isfinite(hits(sight, P, eye, normals, step, offset))
 
 
 def march_step(ev):
@@ -87,15 +107,17 @@ def march_step(ev):
     return 2e-3 * ev.scale
 
 
-def hits(ev, P, eye, normals=None, step=None, offset=None):
-    """How far along the segment from each point P (n,3) towards the eye, from its
-    start (``offset`` off the surface), the first sample inside the solid is: inf where
-    none is (the point is visible)."""
+def hits(sight, P, eye, normals=None, step=None, offset=None):
+    """How far along the segment from each point P (n,3) of the model towards the eye,
+    from its start (``offset`` off the surface), the first sample inside any solid of
+    ``sight`` (a :class:`Sight`, or the model's evaluator alone) is: inf where none is
+    (the point is visible). Distances and steps are in the model's coordinates."""
+    sight = sight_of(sight)
     P = np.asarray(P, float)
     if len(P) == 0:
         return np.zeros(0)
-    step = step if step is not None else march_step(ev)
-    offset = offset if offset is not None else march_step(ev)
+    step = step if step is not None else march_step(sight.ev)
+    offset = offset if offset is not None else march_step(sight.ev)
     to_eye = eye - P
     dist = np.linalg.norm(to_eye, axis=1)
     u = to_eye / dist[:, None]
@@ -103,19 +125,30 @@ def hits(ev, P, eye, normals=None, step=None, offset=None):
     if normals is not None:
         start = start + 0.5 * offset * np.asarray(normals)
     D = eye - start
+    length = np.linalg.norm(D, axis=1)
+    at = np.full(len(P), np.inf)
+    for ev, M in sight.solids():
+        S, E = (start, D) if M is None else (start @ M[:3, :3].T + M[:3, 3], D @ M[:3, :3].T)
+        at = np.minimum(at, _first_inside(ev, S, E, step / length) * length)
+    return at
+
+
+def _first_inside(ev, start, D, dt):
+    """The parameter t (of start + t D, t in [0, 1]) of each ray's first sample inside
+    ev's solid, the samples dt apart from where the ray enters the solid's box: inf
+    where none is."""
     box = surface_box(ev)                           # where f >= iso can be (else the support's)
     lo, hi = box if box is not None else ev.bounds
     t0, t1 = _clip(start, D, lo, hi)
-    at = np.full(len(P), np.inf)
+    at = np.full(len(start), np.inf)
     live = np.flatnonzero(t1 > t0)
-    length = np.linalg.norm(D, axis=1)
     k = 0
     while len(live):
         # the samples k, k+1, ... of each ray still marching, as many per ray as keep a
         # batch near MARCH_BATCH points (a call's cost is mostly its own: the last few
         # rays take their remaining samples in a few calls, not one call per sample)
         b = int(np.clip(MARCH_BATCH // len(live), 1, MAX_AHEAD))
-        t = t0[live, None] + ((k + np.arange(b))[None, :] * step) / length[live, None]      # (m, b)
+        t = t0[live, None] + (k + np.arange(b))[None, :] * dt[live, None]      # (m, b)
         inside = t <= t1[live, None]
         Q = (start[live, None, :] + t[:, :, None] * D[live, None, :]).reshape(-1, 3)
         if inside.all():                   # a sample a ray (always so when they take one each)
@@ -126,18 +159,19 @@ def hits(ev, P, eye, normals=None, step=None, offset=None):
         hit = f >= ev.iso
         got = hit.any(axis=1)
         rows = np.flatnonzero(got)
-        at[live[rows]] = t[rows, hit[rows].argmax(axis=1)] * length[live[rows]]
+        at[live[rows]] = t[rows, hit[rows].argmax(axis=1)]
         live = live[~got & inside[:, -1]]
         k += b
     return at
 
 
-def split_visible(ev, stroke_points, eye, normals=None, min_points=2):
-    """The visible runs (:class:`Run`) of a polyline."""
-    return split_visible_many(ev, [stroke_points], eye, None if normals is None else [normals], min_points)[0]
+def split_visible(sight, stroke_points, eye, normals=None, min_points=2):
+    """The visible runs (:class:`Run`) of a polyline (``sight``: a :class:`Sight`, or the
+    model's evaluator alone)."""
+    return split_visible_many(sight, [stroke_points], eye, None if normals is None else [normals], min_points)[0]
 
 
-def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
+def split_visible_many(sight, polylines, eye, normals=None, min_points=2):
     """The visible runs of many polylines, marched as one batch (one field evaluation
     per ray-march step for all their points): a list of :class:`Run` s per polyline."""
     if not polylines:
@@ -145,16 +179,17 @@ def split_visible_many(ev, polylines, eye, normals=None, min_points=2):
     sizes = np.array([len(p) for p in polylines])
     P = np.concatenate([np.asarray(p, float).reshape(-1, 3) for p in polylines])
     Nn = None if normals is None else np.concatenate([np.asarray(n, float).reshape(-1, 3) for n in normals])
-    return visible_runs(ev, P, sizes, eye, Nn, min_points)
+    return visible_runs(sight, P, sizes, eye, Nn, min_points)
 
 
-def visible_runs(ev, P, sizes, eye, normals=None, min_points=2):
+def visible_runs(sight, P, sizes, eye, normals=None, min_points=2):
     """:func:`split_visible_many` of polylines given as their points one after the other
     (``P``, with their ``normals``) and their lengths (``sizes``)."""
+    sight = sight_of(sight)
     sizes = np.asarray(sizes, np.int64)
-    d = hits(ev, P, eye, normals)
-    v = _through_grazes(np.isfinite(d), d <= GRAZE * march_step(ev), sizes)
-    return _ends(ev, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes)
+    d = hits(sight, P, eye, normals)
+    v = _through_grazes(np.isfinite(d), d <= GRAZE * march_step(sight.ev), sizes)
+    return _ends(sight, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes)
 
 
 def _through_grazes(hidden, grazed, sizes):
@@ -175,7 +210,7 @@ def _through_grazes(hidden, grazed, sizes):
     return v
 
 
-def _ends(ev, P, normals, eye, runs, first, sizes):
+def _ends(sight, P, normals, eye, runs, first, sizes):
     """The runs (per polyline, index ranges) as :class:`Run` s, each end that meets a
     hidden point of its polyline moved to where the line goes behind the surface: the
     step between the two is bisected END_HALVINGS times (on the chord, the normals
@@ -202,9 +237,9 @@ def _ends(ev, P, normals, eye, runs, first, sizes):
         if N is not None:
             Nq = N[vis] + s[:, None] * (N[hid] - N[vis])
             Nq /= np.maximum(np.linalg.norm(Nq, axis=1, keepdims=True), 1e-300)
-        seen = visible(ev, Q, eye, Nq)
+        seen = visible(sight, Q, eye, Nq)
         lo, hi = np.where(seen, s, lo), np.where(seen, hi, s)
-    X, _, _ = project(ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # the chord's sag: onto the surface
+    X, _, _ = project(sight.ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # the chord's sag: onto the surface
     for (k, j, side, _, _), s, x in zip(ends, lo.tolist(), X):
         if s > 0:
             out[k][j] = out[k][j]._replace(trail=s, tail=x) if side else out[k][j]._replace(lead=s, head=x)

@@ -168,3 +168,52 @@ def test_frame_camera_aims_the_scene_camera_at_a_model_beside_the_first(ext, exa
     assert sc.camera.matrix_world == before
     with pytest.raises(RuntimeError, match="no BlobTree node tree named 'nope'"):
         bpy.ops.blobtree_ink.frame_camera(tree_name="nope")
+
+
+def _behind(points, eye, centre, radius):
+    """Which points lie behind a ball (``centre``, ``radius``) as the eye sees them."""
+    d = (points - eye) / np.linalg.norm(points - eye, axis=1)[:, None]
+    c = np.asarray(centre) - eye
+    return (np.linalg.norm(c - (d @ c)[:, None] * d, axis=1) < radius) & (d @ c < np.linalg.norm(points - eye, axis=1))
+
+
+def test_another_model_in_front_hides_the_lines_behind_it(example):
+    """Two spheres, one in front of the other as the camera sees them: the silhouette of
+    the one behind is drawn only where the one in front leaves it in sight, as a render
+    (where the previews are not drawn) shows it; a model hidden from renders hides
+    nothing, and one whose tree is broken is named."""
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    back = bpy.data.node_groups["sphere"]
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    front = next(t for t in bpy.data.node_groups if t != back)
+    front.preview_object.location = (0.3, -2.5, 0.0)
+    back.preview_object.location = (0.0, 0.0, 0.0)
+    cam = aimed_camera((0.0, -8.0, 0.0), (0.0, 0.0, 0.0))
+    eye = np.array(cam.location)
+    r = 0.4543
+
+    def drawn():
+        assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
+        ink = bpy.data.objects["sphere Ink"]
+        return np.array([ink.matrix_world @ Vector(p.position)
+                         for s in ink.data.layers["Silhouette"].frames[0].drawing.strokes for p in s.points])
+
+    # the front model's solid, in the scene: its preview's vertices tell where it stands
+    co = np.array([front.preview_object.matrix_world @ v.co for v in front.preview_object.data.vertices])
+    centre, reach = co.mean(0), 0.98 * np.linalg.norm(co - co.mean(0), axis=1).min()
+    hidden = drawn()
+    assert len(hidden) > 20 and not _behind(hidden, eye, centre, reach).any()
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=front.name, request="OUTLINES") == {"FINISHED"}
+    ink = bpy.data.objects[f"{front.name} Ink"]               # the front model's own ink, hidden from renders
+    assert ink != bpy.data.objects["sphere Ink"]
+    ink.hide_render = True
+    seen = drawn()
+    assert _behind(seen, eye, centre, reach).sum() > 5                  # the whole circle again
+    ink.hide_render = False
+    node = next(n for n in front.nodes if getattr(n, "kind", "") == "point")
+    node.radius = -1.0                                                  # a broken tree hides nothing, and says so
+    from importlib import import_module
+    jobs = import_module("bl_ext.user_default.blobtree_ink.operators.jobs")
+    solids, broken = jobs.occluders(bpy.context.scene, back)
+    assert solids == () and broken == [front.name]
+    assert jobs.hidden_by_note(broken) == f"'{front.name}' hides no lines: its tree is broken"

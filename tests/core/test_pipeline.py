@@ -1,12 +1,20 @@
 """The illustration pipeline's requests: what each preset draws (the README's table),
 the layers a request owns, regions that hold no surface, a style without strokes."""
+import dataclasses
+
 import numpy as np
 import pytest
 
+from blobtree_ink import model as M
 from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Region
+from blobtree_ink.blackboard.view import View
+from blobtree_ink.model.projection import project
 from blobtree_ink.strokes import style as ST
+from blobtree_ink.strokes.visibility import Sight, visible
 from helpers import job_for
+
+BALL = {"format": "blobtree-1", "root": {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.0}}
 
 # the README's preset table: the layers each preset draws, besides the outlines
 PRESET_LAYERS = {
@@ -115,9 +123,11 @@ def test_the_job_leaves_compiling_framing_and_lighting_to_the_illustration(load_
     (dict(requests=(PL.Request("PLACE_STROKES", PL.Around((0, 0, np.nan), 0.2)),)), "region's centre"),
     (dict(model="pear.json"), "the model must be a model.Model or a model.Evaluator"),
     (dict(seconds=-2), "time budget must be a positive number"),
+    (dict(occluders=("pear.json",)), "occluder 0 must be a .model, matrix. pair"),
+    (dict(occluders=((M.from_dict(BALL), np.zeros((4, 4))),)), "occluder 0's matrix must be an invertible 4x4"),
+    (dict(occluders=((M.from_dict(BALL), np.full((4, 4), np.nan)),)), "occluder 0's matrix must be an invertible"),
 ])
 def test_bad_jobs_are_named(load_example, change, message):
-    import dataclasses
     job = dataclasses.replace(PL.Job(load_example("pear")), **change)
     with pytest.raises(PL.JobError, match=message):
         PL.Illustration(job)
@@ -264,3 +274,40 @@ def test_an_orthographic_camera_zooms_until_its_frame_holds_the_points():
     zoom = FR.ortho_fit(rel, half=np.array([4.0, 2.0]))
     assert zoom == pytest.approx(FR.MARGIN * 1.0)                 # the point 2 up fills the half height 2
     assert (np.abs(rel[:, :2]) / (zoom * np.array([4.0, 2.0]))).max() == pytest.approx(1 / FR.MARGIN)
+
+
+def test_another_solid_of_the_scene_hides_the_lines_behind_it():
+    """A ball placed between the eye and a model (an occluder: its model and the matrix
+    from the model's coordinates into the ball's) hides the model's outlines and strokes
+    behind it, as the model's own parts do; the drawing's key tells the two apart."""
+    model = M.from_dict({"format": "blobtree-1", "root": {"type": "segment", "a": [-1.5, 0, 0], "b": [1.5, 0, 0],
+                                                          "radius": 0.8}})
+    eye = np.array([0.0, -8.0, 0.0])
+    ball_at = np.eye(4)
+    ball_at[:3, 3] = [0.0, 4.0, 0.0]         # the ball at y = -4, in front: model point p is ball point p + (0, 4, 0)
+    jobs = [PL.Job(model, View(eye=eye), requests=(PL.Request("OUTLINES"), PL.Request("PLACE_STROKES")),
+                   style=ST.style("hatched"), occluders=hidden) for hidden in ((), ((M.from_dict(BALL), ball_at),))]
+    alone, behind = (PL.Illustration(j).run().strokes.layers for j in jobs)
+    ball = M.Evaluator(M.from_dict(BALL))
+    r_ball = -float(project(ball, np.array([[0.0, -0.5, 0.0]]), 30)[0][0, 1])
+
+    def shadowed(P):                         # behind the ball: the ray to the eye passes within its radius
+        c = np.array([0.0, -4.0, 0.0])
+        d = (P - eye) / np.linalg.norm(P - eye, axis=1)[:, None]
+        return np.linalg.norm((c - eye) - ((c - eye) @ d.T)[:, None] * d, axis=1) < r_ball * 0.98
+
+    for layer in ("Silhouette", "Hatching"):
+        P_alone = np.concatenate([s.points for s in alone[layer]])
+        P_behind = np.concatenate([s.points for s in behind[layer]])
+        assert shadowed(P_alone).sum() > 10, layer             # the model alone draws lines where the ball stands
+        assert not shadowed(P_behind).any(), layer
+        assert len(P_behind) > 10
+    sight = Sight(M.Evaluator(model), ((ball, ball_at),))
+    P = np.array([[0.0, -0.45, 0.0], [1.4, -0.3, 0.6]])        # the model's front behind the ball; beside it
+    np.testing.assert_array_equal(visible(sight, P, eye), [False, True])
+    np.testing.assert_array_equal(visible(M.Evaluator(model), P, eye), [True, True])
+    key = [j.checked().making("k") for j in jobs]
+    shifted = ball_at.copy()
+    shifted[0, 3] = 0.01
+    moved = dataclasses.replace(jobs[1], occluders=((M.from_dict(BALL), shifted),))
+    assert len({*key, moved.checked().making("k")}) == 3
