@@ -146,9 +146,14 @@ class Job:
         return bool({OUTLINES, FIND_FEATURES} & set(self.kinds))
 
     def wants_outlines(self):
-        """Whether the agents trace outlines: for the outline layers, or for the strokes
-        started from them."""
-        return self.wants_outline_layers() or (PLACE_STROKES in self.kinds and self.style.chains)
+        """Whether the agents trace outlines: for the outline layers, for the strokes
+        started from them, or for stipples (drawn finer beside the visible outlines)."""
+        return self.wants_outline_layers() or self.wants_visible_outlines()
+
+    def wants_visible_outlines(self):
+        """Whether a PLACE_STROKES request needs the outlines, as traced (the chains'
+        strokes start from them) or as drawn (the stipples keep clear of them)."""
+        return PLACE_STROKES in self.kinds and (self.style.chains or self.style.stipples)
 
     def stroke_switches(self):
         """The style's stroke layers a PLACE_STROKES request draws."""

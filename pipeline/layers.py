@@ -20,10 +20,11 @@ from ..strokes import crowding as CR
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
 from ..strokes import stipples as SP
-from ..strokes.data import Stroke
+from ..strokes.data import LAYER_OF_KIND, Stroke
 from ..strokes.style import outline_strokes, view_right
 from ..strokes.visibility import Sight
 
+OUTLINE_LAYERS = tuple(LAYER_OF_KIND.values())
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
 STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii (before its shade's tone)
 SINGLE_STEPS = 60           # a single stroke's steps, at most
@@ -172,14 +173,17 @@ def short(cv, sampling, st, region, part):
                            every_path=cv.settled, **kw)
 
 
-def stipples(cv, sampling, st, region, part, drawn=(), spacing=None):
+def stipples(cv, sampling, st, region, part, drawn=(), spacing=None, lines=None):
     """Stipples from a part's wandering smarticles, apart from each other and from the
-    dots the parts before kept (``spacing``, strokes.stipples.Spacing) and drew (``drawn``)."""
+    dots the parts before kept (``spacing``, strokes.stipples.Spacing) and drew
+    (``drawn``), and finer where they come near the ``lines`` drawn (the visible
+    outlines, a StrokeSet, or None)."""
+    lines = () if lines is None else [s for name in OUTLINE_LAYERS for s in lines.layers.get(name, ())]
     step = 0.5 * STEP * cv.unit
     return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=STIPPLE_RADIUS * cv.radius(st),
                       region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
-                      every_path=cv.settled, drawn=drawn, spacing=spacing, sight=cv.sight)
+                      every_path=cv.settled, drawn=drawn, spacing=spacing, sight=cv.sight, lines=lines)
 
 
 def single_stroke(cv, st, point, seed=0):

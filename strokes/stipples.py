@@ -16,14 +16,15 @@ STIPPLE_GAP = 1.1       # stipples keep this many times their radii's sum apart 
 
 
 def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, upper=0.55, radius=0.004,
-             region=None, contrast=1.0, paths=None, every_path=False, drawn=(), spacing=None, sight=None):
+             region=None, contrast=1.0, paths=None, every_path=False, drawn=(), spacing=None, sight=None,
+             lines=()):
     """One-point strokes at every ``every``-th step of wandering smarticles started at
     the marks in shade: each dot is drawn as its own shade says (in the penumbra at
     random, by its own key: a light tone is no trail of one smarticle's dots), kept
     apart on the surface (``spacing``: a :class:`Spacing` that holds the dots the
     layer's parts before kept, seen or not; a new one without), and the visible ones
     drawn finer where they would touch on the paper (:func:`fitted`, also against the
-    dots ``drawn`` before); each dot's mark is its smarticle's key and step (``paths``,
+    dots ``drawn`` before and the ``lines``: the visible outlines); each dot's mark is its smarticle's key and step (``paths``,
     ``every_path``: as for :func:`hatching`; ``sight``: what hides the dots, a
     strokes.visibility.Sight: default the model's own solid alone)."""
     every = int(every)
@@ -59,7 +60,7 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     D, Nn, K, r, o = D[apart], Nn[apart], K[apart], r[apart], o[apart]
     vis = visible(ev if sight is None else sight, D, eye, Nn)
     D, K, o = D[vis], K[vis], o[vis]
-    r = fitted(D, r[vis], eye, drawn)
+    r = fitted(D, r[vis], eye, drawn, lines)
     room = r > 0                                              # none: under a dot drawn before
     D, K, r, o = D[room], K[room], r[room], o[room]
     return [Stroke(p[None], r[i:i + 1], o[i:i + 1], dots=True, mark=int(k)) for i, (p, k) in enumerate(zip(D, K))]
@@ -128,13 +129,14 @@ def on_paper(P, radii, eye):
     return V / d[:, None], np.asarray(radii, float) / d
 
 
-def fitted(P, radii, eye, drawn=()):
+def fitted(P, radii, eye, drawn=(), lines=()):
     """The dots' radii, each made smaller where on the paper (:func:`on_paper`) it would
-    come closer to another dot, or to one of ``drawn``, than STIPPLE_GAP times their
-    radii's sum: where the surface turns away (near a silhouette) dots apart on the
-    surface crowd together on the paper, and there they are drawn finer instead of
-    running into dashes. A radius changes smoothly as the view turns: no dot comes or
-    goes for it."""
+    come closer to another dot, or to one of ``drawn``, or to a line of ``lines``
+    (strokes, each a polyline with its radii), than STIPPLE_GAP times their radii's sum:
+    where the surface turns away (near a silhouette) dots apart on the surface crowd
+    together on the paper, and there they are drawn finer instead of running into
+    dashes, and a dot on a line does not bead it. A radius changes smoothly as the view
+    turns: no dot comes or goes for it."""
     radii = np.asarray(radii, float)
     if len(P) == 0:
         return radii
@@ -147,4 +149,16 @@ def fitted(P, radii, eye, drawn=()):
         W, b = on_paper([s.points[0] for s in drawn], [s.radius[0] for s in drawn], eye)
         i, j = pairs_within(U, W, STIPPLE_GAP * (a.max() + b.max()))
         np.minimum.at(room, i, np.maximum(np.linalg.norm(U[i] - W[j], axis=1) / STIPPLE_GAP - b[j], 0.0))
+    lines = [s for s in lines if len(s.points) > 1]
+    if lines:
+        A, ra = on_paper(np.concatenate([s.points[:-1] for s in lines]),
+                         np.concatenate([np.maximum(s.radius[:-1], s.radius[1:]) for s in lines]), eye)
+        B, _ = on_paper(np.concatenate([s.points[1:] for s in lines]), np.zeros(len(A)), eye)
+        half = 0.5 * np.linalg.norm(B - A, axis=1)
+        i, j = pairs_within(U, 0.5 * (A + B), STIPPLE_GAP * (a.max() + ra.max()) + half.max())
+        AB = B[j] - A[j]
+        t = np.clip(np.einsum("ij,ij->i", U[i] - A[j], AB) / np.maximum(np.einsum("ij,ij->i", AB, AB), 1e-300), 0, 1)
+        foot = A[j] + t[:, None] * AB                  # on the chord: back onto the sphere of directions
+        gap = np.linalg.norm(U[i] - foot / np.linalg.norm(foot, axis=1, keepdims=True), axis=1)
+        np.minimum.at(room, i, np.maximum(gap / STIPPLE_GAP - ra[j], 0.0))
     return radii * (room / a)

@@ -13,7 +13,7 @@ from blobtree_ink.blackboard.view import View
 from blobtree_ink.model import nodes as N
 from blobtree_ink.strokes import style as ST
 from blobtree_ink.strokes.smarticles import nearest_distance
-from helpers import same_strokes
+from helpers import same_marked, same_strokes
 
 EYE = np.array([5.0, -9.0, 4.0])
 
@@ -196,7 +196,7 @@ def test_an_illustration_going_on_from_the_last_frame(load_example):
 def test_a_settled_model_makes_every_marks_path_at_once(load_example):
     """A frame whose model is the last frame's makes the smarticles' paths of every mark
     of its marked layers, in shade or not: a next frame whose eye and light moved (other
-    marks in shade) makes none. Its strokes are those a frame alone draws, bit for bit."""
+    marks in shade) makes none. Its strokes are those a frame alone draws (helpers.same_marked)."""
     model = load_example("pear")
     for style, layer in (("hatched", "Hatching"), ("short-strokes", "Short Strokes"), ("stippled", "Stipples")):
         first = PL.Illustration(job(model, EYE, style), remember=True)
@@ -211,8 +211,7 @@ def test_a_settled_model_makes_every_marks_path_at_once(load_example):
         assert {k: len(v) for k, v in third.ev.memo.items() if k[0] == "paths"} == kept
         alone = PL.Illustration(job(model, eye, style, light)).run()
         a, b = res.strokes.layers[layer], alone.strokes.layers[layer]
-        assert len(a) > 20 and [st.mark for st in a] == [st.mark for st in b]
-        assert all(np.array_equal(x.points, y.points) for x, y in zip(a, b))
+        same_marked(a, b, layer)
         # marks the first frames drew none from are drawn from in the third
         drawn = {st.mark for st in first.result().strokes.layers[layer]}
         assert {st.mark for st in a} - drawn

@@ -311,3 +311,27 @@ def test_another_solid_of_the_scene_hides_the_lines_behind_it():
     shifted[0, 3] = 0.01
     moved = dataclasses.replace(jobs[1], occluders=((M.from_dict(BALL), shifted),))
     assert len({*key, moved.checked().making("k")}) == 3
+
+
+def test_stipples_keep_clear_of_the_outlines_whichever_request_draws_them(load_example):
+    """No stipple touches a visible outline on the paper; Place Strokes alone draws the
+    stipples a look (outlines and strokes in one run) draws, beside the same outlines."""
+    from blobtree_ink.strokes import stipples as SP
+    model = load_example("pear")
+    look = PL.Illustration(PL.Job(model, style=ST.style("stippled"),
+                                  requests=(PL.Request("OUTLINES"), PL.Request("PLACE_STROKES"))))
+    dots = look.run().strokes.layers["Stipples"]
+    alone = PL.Illustration(PL.Job(model, style=ST.style("stippled"), requests=(PL.Request("PLACE_STROKES"),)))
+    res = alone.run()
+    assert "Silhouette" not in res.owned and len(res.strokes.layers.get("Silhouette", ())) == 0
+    assert [d.mark for d in res.strokes.layers["Stipples"]] == [d.mark for d in dots]
+    lines = [s for name in ("Silhouette", "Crease") for s in look.outline_set.layers[name]]
+    U, a = SP.on_paper(np.concatenate([d.points for d in dots]), np.concatenate([d.radius for d in dots]), look.eye)
+    for s in lines:                                  # each dot against the line's points, densified
+        t = np.linspace(0.0, 1.0, 9)[:, None, None]
+        P = (s.points[:-1][None] * (1 - t) + s.points[1:][None] * t).reshape(-1, 3)
+        r = np.maximum(s.radius[:-1], s.radius[1:])[None].repeat(len(t), 0).reshape(-1)
+        W, b = SP.on_paper(P, r, look.eye)
+        i = ((U[:, None] - W[None]) ** 2).sum(-1).argmin(1)
+        gap = np.linalg.norm(U - W[i], axis=1)
+        assert np.all(gap >= 0.99 * (a + b[i])), s.points.shape

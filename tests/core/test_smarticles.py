@@ -218,6 +218,24 @@ def test_fitted_dots_shrink_smoothly_where_they_crowd_on_the_paper():
     assert np.isclose(SP.on_paper(P[:1], g, eye)[1][0] + ad[0], np.linalg.norm(U[0] - Ud[0]) / SP.STIPPLE_GAP)
 
 
+def test_fitted_dots_keep_clear_of_the_lines_drawn():
+    """A dot beside a line is drawn finer, just not touching it on the paper (the line's
+    nearest point may lie between two of its points); one on the line is not drawn;
+    one far from it keeps its size; a line of one point (a dot) is no line."""
+    eye = np.array([0.0, -10.0, 0.0])
+    line = Stroke(np.array([[-1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]), np.full(2, 0.02), np.ones(2))
+    P = np.array([[0.3, 0.0, 0.06], [0.5, 0.0, 0.0], [0.0, 0.0, 2.0]])
+    r = np.full(3, 0.05)
+    f = SP.fitted(P, r, eye, lines=[line])
+    assert 0 < f[0] < r[0] and f[1] == 0 and f[2] == r[2]
+    U, a = SP.on_paper(P[:1], f[:1], eye)
+    foot, b = SP.on_paper(np.array([[0.3, 0.0, 0.0]]), [0.02], eye)
+    # (the line's radius on the paper is its ends', a little further off than the foot)
+    assert np.isclose(a[0] + b[0], np.linalg.norm(U[0] - foot[0]) / SP.STIPPLE_GAP, rtol=1e-2)
+    dot = Stroke(np.array([[0.3, 0.0, 0.0]]), np.full(1, 0.02), np.ones(1), dots=True)
+    np.testing.assert_array_equal(SP.fitted(P, r, eye, lines=[dot]), SP.fitted(P, r, eye))
+
+
 def sphere_ev():
     return ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
 
