@@ -212,7 +212,9 @@ def hidden_by_note(broken):
     if not broken:
         return None
     names = ", ".join(f"'{n}'" for n in broken)
-    return f"{names} {'hides' if len(broken) == 1 else 'hide'} no lines: {'its tree is' if len(broken) == 1 else 'their trees are'} broken"
+    if len(broken) == 1:
+        return f"{names} hides no lines: its tree is broken"
+    return f"{names} hide no lines: their trees are broken"
 
 
 def tree_settings(ink):

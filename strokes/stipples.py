@@ -24,9 +24,10 @@ def stipples(ev, marks, eye, light_dir, step, every=3, steps=30, lower=0.2, uppe
     apart on the surface (``spacing``: a :class:`Spacing` that holds the dots the
     layer's parts before kept, seen or not; a new one without), and the visible ones
     drawn finer where they would touch on the paper (:func:`fitted`, also against the
-    dots ``drawn`` before and the ``lines``: the visible outlines); each dot's mark is its smarticle's key and step (``paths``,
-    ``every_path``: as for :func:`hatching`; ``sight``: what hides the dots, a
-    strokes.visibility.Sight: default the model's own solid alone)."""
+    dots ``drawn`` before and the ``lines``: the visible outlines); each dot's mark is
+    its smarticle's key and step (``paths``, ``every_path``: as for :func:`hatching`;
+    ``sight``: what hides the dots, a strokes.visibility.Sight: default the model's own
+    solid alone)."""
     every = int(every)
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")

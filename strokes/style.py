@@ -182,7 +182,8 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0, sight=N
             pts, nrm = np.vstack([pts, pts[:1]]), np.vstack([nrm, nrm[:1]])
         polys.append(pts)
         norms.append(nrm)
-    for o, pts, nrm, runs in zip(outlines, polys, norms, split_visible_many(ev if sight is None else sight, polys, eye, norms)):
+    sight = ev if sight is None else sight
+    for o, pts, nrm, runs in zip(outlines, polys, norms, split_visible_many(sight, polys, eye, norms)):
         whole = o.closed and len(runs) == 1 and runs[0][:2] == (0, len(pts))
         for run in runs:
             if whole:

@@ -22,7 +22,8 @@ from ..model.projection import project
 
 MARCH_BATCH = 4096          # points a ray-march call aims at
 MAX_AHEAD = 32              # samples of one ray a call takes at most
-GRAZE = 3                   # a hit within this many marching steps of a ray's start may be the line's own grazing surface
+GRAZE = 3                   # a hit within this many marching steps of a ray's start may be the line's own
+                            # grazing surface
 GRAZE_POINTS = 2            # ... and a gap of at most this many such points between visible ones is drawn through
 END_HALVINGS = 5            # bisections of the step where a visible run ends (to 1/32 of the step)
 ONTO_STEPS = 4              # Newton steps that put such an end, on the step's chord, onto the surface
@@ -239,7 +240,7 @@ def _ends(sight, P, normals, eye, runs, first, sizes):
             Nq /= np.maximum(np.linalg.norm(Nq, axis=1, keepdims=True), 1e-300)
         seen = visible(sight, Q, eye, Nq)
         lo, hi = np.where(seen, s, lo), np.where(seen, hi, s)
-    X, _, _ = project(sight.ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # the chord's sag: onto the surface
+    X, _, _ = project(sight.ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # off the chord's sag
     for (k, j, side, _, _), s, x in zip(ends, lo.tolist(), X):
         if s > 0:
             out[k][j] = out[k][j]._replace(trail=s, tail=x) if side else out[k][j]._replace(lead=s, head=x)
