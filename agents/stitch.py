@@ -48,10 +48,12 @@ def join_ends(P, N, chains, link):
     """Chains (index lists into P) whose ends face each other across a gap a little
     wider than ``link`` (at most REACH times it), nearest pair first, joined into one:
     each end's own direction points across the gap to the other end (within AHEAD), and
-    the normals there agree (within SAME_SHEET). Two traces of one curve stop where each
+    the normals there agree (within SAME_SHEET); a chain of more than three points
+    whose own ends face each other so closes. Two traces of one curve stop where each
     meets the other, sometimes a few steps short; a gap this narrow between ends that
     point at each other is that curve's, not a junction's. Returns (indices, closed)
-    per joined chain (closed: its own two ends within ``link``, or pieces joined round)."""
+    per joined chain (closed: its own two ends within ``link``, or pieces joined round);
+    a free end's reach (:func:`_reach_across`) extends ``chains``' lists in place."""
     ends = [(c, e) for c, idx in enumerate(chains) for e in (0, 1) if not _closed(P, idx, link)]
     partner = {}
     if len(ends) >= 2:
@@ -60,8 +62,9 @@ def join_ends(P, N, chains, link):
         out_dir = P[tip] - P[back]
         out_dir /= np.maximum(np.linalg.norm(out_dir, axis=1, keepdims=True), 1e-300)
         owner = np.array([c for c, _ in ends])
+        loop = np.array([len(chains[c]) > 3 for c, _ in ends])      # may close on itself
         i, j = pairs_within(P[tip], P[tip], REACH * link)
-        keep = (i < j) & (owner[i] != owner[j])
+        keep = (i < j) & ((owner[i] != owner[j]) | loop[i])
         i, j = i[keep], j[keep]
         gap = P[tip[j]] - P[tip[i]]
         dist = np.linalg.norm(gap, axis=1)

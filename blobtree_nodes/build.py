@@ -76,7 +76,11 @@ def _own_name(tree, name):
     tree's own (unique) name where another tree's model has that name already (the
     same model imported twice must not draw into one ink)."""
     taken = {t.model_name or t.name for t in blobtrees() if t != tree}
-    return name if name not in taken else tree.name
+    own, k = name, 0
+    while own in taken:
+        k += 1
+        own = tree.name if k == 1 else f"{tree.name}.{k:03d}"
+    return own
 
 
 def _build(tree, model):

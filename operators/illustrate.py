@@ -31,7 +31,7 @@ from ..blobtree_nodes import changes, preview
 from ..blobtree_nodes.compile import TreeError, compile_document, same_model
 from ..blobtree_nodes.settings import PRESETS, PRESET_TIPS, apply_preset, style_of
 from ..grease_pencil import views
-from ..grease_pencil.writer import ink_object, stroke_count, write, write_layer
+from ..grease_pencil.writer import ink_object, read_layer, stroke_count, write, write_layer
 from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
 from ..model import Evaluator
 from . import frames as FR
@@ -141,6 +141,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             else:
                 note = jobs.elsewhere_note(elsewhere, job)
                 self.notes += [note] if note else []
+        if obj is not None and job.style.stipples and not job.wants_outline_layers():
+            job = replace(job, lines=tuple(s for n in jobs.traced_layers(job) if n in obj.data.layers
+                                           for s in read_layer(obj, n, frame)))     # stipples keep clear of them
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         jobs.on_paper(context, tree)

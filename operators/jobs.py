@@ -183,19 +183,30 @@ def in_scene(tree, scene):
                for o in (bpy.data.objects.get(ink_name(tree)), tree.preview_object))
 
 
+def rendered(tree, scene):
+    """Whether the tree shows in the scene's renders: its ink is in the scene and not
+    hidden from renders, or its preview mesh is rendered, or it has no ink yet but is
+    in the scene with Illustrate Rendered Frames on (a render draws it then)."""
+    ink, preview = bpy.data.objects.get(ink_name(tree)), tree.preview_object
+    if ink is not None and scene in ink.users_scene and not ink.hide_render:
+        return True
+    if preview is not None and scene in preview.users_scene and not preview.hide_render:
+        return True
+    return ink is None and tree.ink.render_frames and in_scene(tree, scene)
+
+
 def occluders(scene, tree, depsgraph=None):
     """The scene's other models that can hide the tree's lines: (Model, matrix from the
-    tree's model coordinates into the other's) of each other tree drawn in the scene
-    (:func:`in_scene`) whose ink is not hidden from renders, as ``depsgraph`` evaluates
-    them (default: the context's); and the names of those left out because their tree
-    does not compile (the caller says so)."""
+    tree's model coordinates into the other's) of each other tree that shows in renders
+    (:func:`rendered`), as ``depsgraph`` evaluates them (default: the context's); and
+    the names of those left out because their tree does not compile (the caller says
+    so)."""
     from ..blobtree_nodes.animation import DriverError
     from ..blobtree_nodes.compile import TreeError, compile_tree
     solids, broken = [], []
     to_scene = placement(tree, depsgraph)
     for other in blobtrees():
-        ink = bpy.data.objects.get(ink_name(other))
-        if other == tree or not in_scene(other, scene) or (ink is not None and ink.hide_render):
+        if other == tree or not rendered(other, scene):
             continue
         try:
             model = compile_tree(other, mark=False, depsgraph=depsgraph)

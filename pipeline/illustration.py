@@ -13,7 +13,7 @@ are wanted), the visible outlines (hidden lines removed against the exact surfac
 the style's stroke layers one by one (hatching, cross-hatching, strokes from the feature
 chains, short strokes, stipples), each in parts of its starts (the model's own marks,
 model.marks, whose choices are theirs: a layer does not depend on the layers drawn
-before it, but for stipples drawn finer beside the job's outlines, nor a frame on the
+before it, but for stipples drawn finer beside the outlines, nor a frame on the
 frames before it), and a single stroke. :meth:`Illustration.stop` skips what is left
 but the outlines of what was traced: a stopped illustration keeps every layer it
 finished, and the outlines found so far with their hidden lines removed.
@@ -118,7 +118,7 @@ class Illustration:
         stages = ["init"]
         if j.wants_outlines():
             stages.append("sampling")
-        if j.wants_outline_layers() or j.wants_visible_outlines():
+        if j.wants_outline_layers():
             stages.append("outlines")
         for switch in j.stroke_switches():
             stages.append(switch)
@@ -325,7 +325,7 @@ class Illustration:
             self._spacing = Spacing()      # the layer's dots kept so far, over its parts
         layer = STYLE_LAYERS["stipples"]
         self._stroke_layer(layer, LY.mark_parts, LY.stipples, "stipples", drawn=self.layers.get(layer, ()),
-                           spacing=self._spacing, lines=self.outline_set)
+                           spacing=self._spacing, lines=self.outline_set or self.job.lines)
 
     def _single(self):
         cursor = [r.cursor for r in self.requests if r.kind == SINGLE_STROKE][0]

@@ -9,7 +9,7 @@ import numpy as np
 from ..agents import Region, Settings
 from ..blackboard.view import View
 from ..model import Evaluator, Model, fingerprint
-from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
+from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS, Stroke
 from ..strokes.style import STROKE_SWITCHES, Style
 
 OUTLINES, PLACE_STROKES, SINGLE_STROKE, FIND_FEATURES = REQUESTS = (
@@ -79,7 +79,10 @@ class Job:
     agents' iterations (None: run to the end; a budget makes the outlines depend on the
     machine's speed); ``occluders``: the other solids of the scene that can hide the
     model's lines, (model, matrix) each: a model.Model or model.Evaluator, and the 4x4
-    matrix taking a point of this model's coordinates into that one's."""
+    matrix taking a point of this model's coordinates into that one's; ``lines``: the
+    visible outlines drawn already (strokes.data.Stroke, in the model's coordinates)
+    that stipples keep clear of, where the job draws none itself (they are drawn from
+    what the job is made from: no part of :meth:`making`)."""
     model: object
     view: View = None
     light: tuple = None
@@ -90,6 +93,7 @@ class Job:
     seconds: float = None
     light_at: tuple = None
     occluders: tuple = ()
+    lines: tuple = ()
 
     def checked(self):
         """This job, checked (JobError naming the first bad part)."""
@@ -127,14 +131,16 @@ class Job:
             raise JobError(str(e)) from None
         if not isinstance(self.model, (Evaluator, Model)):
             raise JobError(f"the model must be a model.Model or a model.Evaluator, got {type(self.model).__name__}")
+        if not all(isinstance(s, Stroke) for s in self.lines):
+            raise JobError("the lines drawn already must be strokes.data.Stroke values")
         for k, occluder in enumerate(self.occluders):
             if not (isinstance(occluder, tuple) and len(occluder) == 2 and isinstance(occluder[0], (Evaluator, Model))):
                 raise JobError(f"occluder {k} must be a (model, matrix) pair, got {occluder!r:.80}")
             M = np.asarray(occluder[1], float)
-            if M.shape != (4, 4) or not np.all(np.isfinite(M)) or abs(np.linalg.det(M[:3, :3])) < 1e-12:
+            if M.shape != (4, 4) or not np.all(np.isfinite(M)) or np.linalg.cond(M[:3, :3]) > 1e12:
                 raise JobError(f"occluder {k}'s matrix must be an invertible 4x4 of finite numbers")
         # one seed: the job's (the sampling's explorers and every stroke layer derive theirs from it)
-        return replace(self, requests=tuple(self.requests), seed=int(self.seed),
+        return replace(self, requests=tuple(self.requests), seed=int(self.seed), lines=tuple(self.lines),
                        settings=replace(self.settings, seed=int(self.seed)))
 
     @property
@@ -146,14 +152,9 @@ class Job:
         return bool({OUTLINES, FIND_FEATURES} & set(self.kinds))
 
     def wants_outlines(self):
-        """Whether the agents trace outlines: for the outline layers, for the strokes
-        started from them, or for stipples (drawn finer beside the visible outlines)."""
-        return self.wants_outline_layers() or self.wants_visible_outlines()
-
-    def wants_visible_outlines(self):
-        """Whether a PLACE_STROKES request needs the outlines, as traced (the chains'
-        strokes start from them) or as drawn (the stipples keep clear of them)."""
-        return PLACE_STROKES in self.kinds and (self.style.chains or self.style.stipples)
+        """Whether the agents trace outlines: for the outline layers, or for the strokes
+        started from them."""
+        return self.wants_outline_layers() or (PLACE_STROKES in self.kinds and self.style.chains)
 
     def stroke_switches(self):
         """The style's stroke layers a PLACE_STROKES request draws."""

@@ -173,12 +173,13 @@ def short(cv, sampling, st, region, part):
                            every_path=cv.settled, **kw)
 
 
-def stipples(cv, sampling, st, region, part, drawn=(), spacing=None, lines=None):
+def stipples(cv, sampling, st, region, part, drawn=(), spacing=None, lines=()):
     """Stipples from a part's wandering smarticles, apart from each other and from the
     dots the parts before kept (``spacing``, strokes.stipples.Spacing) and drew
     (``drawn``), and finer where they come near the ``lines`` drawn (the visible
-    outlines, a StrokeSet, or None)."""
-    lines = () if lines is None else [s for name in OUTLINE_LAYERS for s in lines.layers.get(name, ())]
+    outlines: a StrokeSet, whose outline layers count, or strokes)."""
+    if hasattr(lines, "layers"):
+        lines = [s for name in OUTLINE_LAYERS for s in lines.layers.get(name, ())]
     step = 0.5 * STEP * cv.unit
     return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
                       lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=STIPPLE_RADIUS * cv.radius(st),

@@ -150,11 +150,12 @@ def fitted(P, radii, eye, drawn=(), lines=()):
         W, b = on_paper([s.points[0] for s in drawn], [s.radius[0] for s in drawn], eye)
         i, j = pairs_within(U, W, STIPPLE_GAP * (a.max() + b.max()))
         np.minimum.at(room, i, np.maximum(np.linalg.norm(U[i] - W[j], axis=1) / STIPPLE_GAP - b[j], 0.0))
-    lines = [s for s in lines if len(s.points) > 1]
+    lines = [(np.vstack([s.points, s.points[:1]]), np.concatenate([s.radius, s.radius[:1]])) if s.cyclic
+             else (s.points, s.radius) for s in lines if len(s.points) > 1]          # a loop's closing segment too
     if lines:
-        A, ra = on_paper(np.concatenate([s.points[:-1] for s in lines]),
-                         np.concatenate([np.maximum(s.radius[:-1], s.radius[1:]) for s in lines]), eye)
-        B, _ = on_paper(np.concatenate([s.points[1:] for s in lines]), np.zeros(len(A)), eye)
+        A, ra = on_paper(np.concatenate([p[:-1] for p, _ in lines]),
+                         np.concatenate([np.maximum(r[:-1], r[1:]) for _, r in lines]), eye)
+        B, _ = on_paper(np.concatenate([p[1:] for p, _ in lines]), np.zeros(len(A)), eye)
         half = 0.5 * np.linalg.norm(B - A, axis=1)
         i, j = pairs_within(U, 0.5 * (A + B), STIPPLE_GAP * (a.max() + ra.max()) + half.max())
         AB = B[j] - A[j]

@@ -185,15 +185,19 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0, sight=N
     sight = ev if sight is None else sight
     for o, pts, nrm, runs in zip(outlines, polys, norms, split_visible_many(sight, polys, eye, norms)):
         whole = o.closed and len(runs) == 1 and runs[0][:2] == (0, len(pts))
-        for run in runs:
-            if whole:
-                run = run._replace(b=run.b - 1)
-            seg = run_points(pts, run)
+        if whole:
+            runs = [runs[0]._replace(b=runs[0].b - 1)]
+        pieces = [(run_points(pts, run), piece(nrm, run)) for run in runs]
+        if o.closed and len(runs) > 1 and runs[0].a == 0 and runs[-1].b == len(pts):
+            # a run across a loop's start is one stroke (its last point is the loop's first)
+            (p0, n0), (p1, n1) = pieces[0], pieces.pop()
+            pieces[0] = (np.concatenate([p1[:-1], p0]), np.concatenate([n1[:-1], n0]))
+        for seg, seg_n in pieces:
             if o.kind in SPECKLED and np.linalg.norm(np.diff(seg, axis=0), axis=1).sum() < SPECK * o.step:
                 continue
             if light is None:
                 r = np.full(len(seg), float(radius))
             else:
-                r, _ = L.tone(L.lighting(piece(nrm, run), light), 1.0, radius, 0.5 * contrast)
+                r, _ = L.tone(L.lighting(seg_n, light), 1.0, radius, 0.5 * contrast)
             out.add(LAYER_OF_KIND[o.kind], Stroke(seg, r, np.ones(len(seg)), cyclic=whole))
     return out

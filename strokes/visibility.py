@@ -10,7 +10,7 @@ bisecting the step between its last visible point and the next hidden one (so a 
 that passes behind another meets it, not a step short of it). A line's own grazing
 surface hides a point or two of it where the ray leaves the surface almost along it:
 such a short gap, hit within GRAZE marching steps of its start, between visible
-points of the same line, is not a gap.
+points of the same line, is not a gap (another solid hit first is).
 """
 from typing import NamedTuple
 
@@ -113,10 +113,15 @@ def hits(sight, P, eye, normals=None, step=None, offset=None):
     from its start (``offset`` off the surface), the first sample inside any solid of
     ``sight`` (a :class:`Sight`, or the model's evaluator alone) is: inf where none is
     (the point is visible). Distances and steps are in the model's coordinates."""
+    return np.min(hits_each(sight, P, eye, normals, step, offset), axis=0)
+
+
+def hits_each(sight, P, eye, normals=None, step=None, offset=None):
+    """:func:`hits` of each solid of ``sight`` apart, the model's own first: (solids, n)."""
     sight = sight_of(sight)
     P = np.asarray(P, float)
     if len(P) == 0:
-        return np.zeros(0)
+        return np.zeros((len(sight.solids()), 0))
     step = step if step is not None else march_step(sight.ev)
     offset = offset if offset is not None else march_step(sight.ev)
     to_eye = eye - P
@@ -127,11 +132,11 @@ def hits(sight, P, eye, normals=None, step=None, offset=None):
         start = start + 0.5 * offset * np.asarray(normals)
     D = eye - start
     length = np.linalg.norm(D, axis=1)
-    at = np.full(len(P), np.inf)
+    out = []
     for ev, M in sight.solids():
         S, E = (start, D) if M is None else (start @ M[:3, :3].T + M[:3, 3], D @ M[:3, :3].T)
-        at = np.minimum(at, _first_inside(ev, S, E, step / length) * length)
-    return at
+        out.append(_first_inside(ev, S, E, step / length) * length)
+    return np.array(out)
 
 
 def _first_inside(ev, start, D, dt):
@@ -188,8 +193,10 @@ def visible_runs(sight, P, sizes, eye, normals=None, min_points=2):
     (``P``, with their ``normals``) and their lengths (``sizes``)."""
     sight = sight_of(sight)
     sizes = np.asarray(sizes, np.int64)
-    d = hits(sight, P, eye, normals)
-    v = _through_grazes(np.isfinite(d), d <= GRAZE * march_step(sight.ev), sizes)
+    each = hits_each(sight, P, eye, normals)
+    d = each.min(axis=0)
+    # a graze is the model's own surface, hit before any other solid
+    v = _through_grazes(np.isfinite(d), (each[0] <= GRAZE * march_step(sight.ev)) & (each[0] <= d), sizes)
     return _ends(sight, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes)
 
 

@@ -124,6 +124,7 @@ def test_the_job_leaves_compiling_framing_and_lighting_to_the_illustration(load_
     (dict(model="pear.json"), "the model must be a model.Model or a model.Evaluator"),
     (dict(seconds=-2), "time budget must be a positive number"),
     (dict(occluders=("pear.json",)), "occluder 0 must be a .model, matrix. pair"),
+    (dict(lines=(np.zeros((3, 3)),)), "lines drawn already must be strokes.data.Stroke values"),
     (dict(occluders=((M.from_dict(BALL), np.zeros((4, 4))),)), "occluder 0's matrix must be an invertible 4x4"),
     (dict(occluders=((M.from_dict(BALL), np.full((4, 4), np.nan)),)), "occluder 0's matrix must be an invertible"),
 ])
@@ -314,18 +315,23 @@ def test_another_solid_of_the_scene_hides_the_lines_behind_it():
 
 
 def test_stipples_keep_clear_of_the_outlines_whichever_request_draws_them(load_example):
-    """No stipple touches a visible outline on the paper; Place Strokes alone draws the
-    stipples a look (outlines and strokes in one run) draws, beside the same outlines."""
+    """No stipple touches a visible outline on the paper; Place Strokes alone, given the
+    outlines drawn already (the ink's), draws the stipples a look (outlines and strokes
+    in one run) draws, and traces nothing."""
     from blobtree_ink.strokes import stipples as SP
     model = load_example("pear")
     look = PL.Illustration(PL.Job(model, style=ST.style("stippled"),
                                   requests=(PL.Request("OUTLINES"), PL.Request("PLACE_STROKES"))))
     dots = look.run().strokes.layers["Stipples"]
-    alone = PL.Illustration(PL.Job(model, style=ST.style("stippled"), requests=(PL.Request("PLACE_STROKES"),)))
+    lines = [s for name in ("Silhouette", "Crease") for s in look.outline_set.layers[name]]
+    alone = PL.Illustration(PL.Job(model, style=ST.style("stippled"), requests=(PL.Request("PLACE_STROKES"),),
+                                   lines=tuple(lines)))
     res = alone.run()
     assert "Silhouette" not in res.owned and len(res.strokes.layers.get("Silhouette", ())) == 0
+    assert res.progress.iterations == 0
     assert [d.mark for d in res.strokes.layers["Stipples"]] == [d.mark for d in dots]
-    lines = [s for name in ("Silhouette", "Crease") for s in look.outline_set.layers[name]]
+    bare = PL.Illustration(PL.Job(model, style=ST.style("stippled"), requests=(PL.Request("PLACE_STROKES"),))).run()
+    assert len(bare.strokes.layers["Stipples"]) > len(dots)          # without the lines, dots sit on them too
     U, a = SP.on_paper(np.concatenate([d.points for d in dots]), np.concatenate([d.radius for d in dots]), look.eye)
     for s in lines:                                  # each dot against the line's points, densified
         t = np.linspace(0.0, 1.0, 9)[:, None, None]

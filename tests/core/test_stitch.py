@@ -80,3 +80,10 @@ def test_a_free_end_reaches_the_middle_of_an_outline_it_points_at():
     off = np.array([2.0, 0.0, 0.0]) - beyond[-1]
     assert np.linalg.norm(off) < REACH * LINK and np.array([0.0, -1.0, 0.0]) @ off / np.linalg.norm(off) < AHEAD
     assert sorted(len(o.points) for o in stitched(main, piece(beyond))) == [8, 21]
+
+
+def test_a_loop_whose_own_ends_stop_short_closes():
+    R, gap = 2.0, 3.5 * STEP
+    t = np.linspace(0.0, 2 * np.pi - gap / R, int(round((2 * np.pi * R - gap) / STEP)) + 1)
+    out = stitched(piece(np.stack([R * np.cos(t), R * np.sin(t), 0 * t], axis=1)))
+    assert len(out) == 1 and out[0].closed and len(out[0].points) == len(t)

@@ -248,3 +248,25 @@ def test_bad_styles_are_named(change, message):
         ST.style("outlines", **change)
     with pytest.raises(ValueError, match="unknown style 'baroque'"):
         ST.style("baroque")
+
+
+def test_a_loop_seen_in_part_is_one_stroke_across_its_start():
+    """A ball's silhouette whose lower part a ball in front hides: the part that shows
+    runs through the loop's start (its topmost point) and is drawn as one stroke, from
+    one edge of the ball in front to the other, not as two meeting at the top."""
+    from blobtree_ink.agents import Outline
+    ev = ev_of({"type": "union", "children": [
+        {"type": "point", "center": [0, 0, 0], "radius": 1.0},
+        {"type": "point", "center": [0, -5.0, -0.5], "radius": 1.0}]})
+    eye = np.array([0.0, -10.0, 0.0])
+    from blobtree_ink.model.projection import project
+    r = float(project(ev, np.array([[0.0, 0.0, 0.6]]), 30)[0][0, 2])       # the back ball's radius at iso
+    t = np.linspace(0.0, 2 * np.pi, 80, endpoint=False)
+    c, rho = np.array([0.0, -r * r / 10.0, 0.0]), r * math.sqrt(1.0 - r * r / 100.0)
+    X = c + rho * np.stack([np.cos(t), np.zeros_like(t), np.sin(t)], axis=1)
+    out = ST.outline_strokes([Outline("silhouette", X, X / r, True, 0.05)], ev, eye, 0.01)
+    (stroke,) = out.layers["Silhouette"]
+    assert not stroke.cyclic and stroke.points[:, 2].max() > 0.99 * rho          # over the top
+    assert np.all(np.linalg.norm(np.diff(stroke.points, axis=0), axis=1) < 0.1)   # no jump across the start
+    ends = stroke.points[[0, -1]]
+    assert np.all(ends[:, 2] < 0.0) and abs(ends[0, 2] - ends[1, 2]) < 0.01       # both ends at the front ball's edge

@@ -114,7 +114,51 @@ def test_a_gap_of_a_point_or_two_hit_close_by_is_drawn_through():
     sizes = np.array([14, 5])       # each ends hidden; the second starts hidden too
     v = V._through_grazes(hidden, grazed, sizes)
     assert v.astype(int).tolist() == [1, 1, 1, 1, 1, 1, 0, 0, 0, 1, 0, 1, 0, 0] + [0, 1, 1, 1, 0]
-    assert (V.GRAZE_POINTS, V.GRAZE) == (2, 3)
+
+
+def ball(r=1.0, at=(0.0, 0.0, 0.0)):
+    return M.Evaluator(M.from_dict({"format": "blobtree-1", "root": {"type": "point", "center": list(at),
+                                                                      "radius": r}}))
+
+
+def test_another_solid_turned_scaled_and_moved_hides_as_placed():
+    """An occluder's matrix takes the model's points into its own coordinates, turn,
+    scale and shift included: a squashed ball turned and moved in front of the model
+    hides exactly what it covers in the scene."""
+    ev, other = ball(), ball()
+    eye = np.array([0.0, -10.0, 0.0])
+    Rz = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])         # a quarter turn about z
+    S = np.diag([1.0, 2.0, 0.4])                       # long along its own y, flat along its z
+    place = np.eye(4)                                  # the other's coordinates -> the scene (= the model's)
+    place[:3, :3], place[:3, 3] = Rz @ S, [0.0, -3.0, 0.0]
+    sight = V.Sight(ev, ((other, np.linalg.inv(place)),))
+    r = -float(V.project(ev, np.array([[0.0, -0.5, 0.0]]), 30)[0][0, 1])
+    # in the scene the other is wide along x (its y, turned) and flat along z: it hides the
+    # model's front middle and the front beside it along x, not above it
+    P = np.array([[0.0, -r, 0.0], [0.3, -np.sqrt(r * r - 0.09), 0.0], [0.0, -np.sqrt(r * r - 0.09), 0.3]])
+    np.testing.assert_array_equal(V.visible(sight, P, eye), [False, False, True])
+    np.testing.assert_array_equal(V.visible(ev, P, eye), [True, True, True])
+
+
+def test_a_gap_another_solid_makes_close_by_is_a_gap():
+    """A tiny ball just in front of one point of a line hides that point, hit as close
+    as a graze would be: the line is split there (only the line's own surface grazes)."""
+    ev = ball()
+    r = -float(V.project(ev, np.array([[0.0, -0.5, 0.0]]), 30)[0][0, 1])
+    t = np.linspace(-0.5, 0.5, 11)
+    line = np.stack([r * np.sin(t), -r * np.cos(t), 0 * t], axis=1)
+    eye = np.array([0.0, -10.0, 0.0])
+    u = (eye - line[5]) / np.linalg.norm(eye - line[5])
+    speck = ball(0.02)
+    grain = -float(V.project(speck, np.array([[0.0, -0.01, 0.0]]), 30)[0][0, 1])
+    at = line[5] + (V.march_step(ev) + grain + 0.5 * V.march_step(ev)) * u        # hit within GRAZE steps
+    place = np.eye(4)
+    place[:3, 3] = -at                                                              # the model's -> the speck's
+    sight = V.Sight(ev, ((speck, place),))
+    d = V.hits_each(sight, line, eye, line / r)
+    assert np.isinf(d[0]).all() and np.isfinite(d[1, 5]) and d[1, 5] <= V.GRAZE * V.march_step(ev)
+    assert np.isinf(np.delete(d[1], 5)).all()
+    assert [run[:2] for run in V.split_visible(sight, line, eye, line / r)] == [(0, 5), (6, 11)]
 
 
 def test_stroke_set_from_outlines():
