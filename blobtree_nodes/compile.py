@@ -214,13 +214,19 @@ def compile_document(tree, mark=True, depsgraph=None):
             raise TreeError(node, _friendly(node.kind, detail)) from None
     except TreeError as e:
         if mark:
-            clear_errors(tree)
-            if e.node is not None:
-                e.node.set_error(e.message)
+            show_outcome(tree, e)
         raise
     if mark:
-        clear_errors(tree)
+        show_outcome(tree)
     return model, doc
+
+
+def show_outcome(tree, error=None):
+    """Show a compile's outcome on the tree's nodes: the errors shown before cleared,
+    and ``error``'s node (a TreeError's) marked with its message."""
+    clear_errors(tree)
+    if error is not None and error.node is not None:
+        error.node.set_error(error.message)
 
 
 def same_model(tree, document):

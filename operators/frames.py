@@ -10,7 +10,8 @@ import bpy
 from .. import pipeline as PL
 from ..blobtree_nodes import preview
 from ..blobtree_nodes.base import shown_name
-from ..blobtree_nodes.compile import compile_tree, in_no_scene
+from ..blobtree_nodes.animation import DriverError
+from ..blobtree_nodes.compile import TreeError, compile_tree, in_no_scene, show_outcome
 from ..blobtree_nodes.settings import style_of
 from ..grease_pencil import views
 from ..grease_pencil.writer import ink_object, write
@@ -33,14 +34,39 @@ def look_requests(tree):
     return tuple(requests)
 
 
-def frame_job(tree, scene, depsgraph=None):
+class Compiled:
+    """The trees of one frame, each compiled once as ``depsgraph`` evaluates them: a
+    frame of a render draws every tree, each hidden by the others."""
+
+    def __init__(self, depsgraph=None):
+        self.depsgraph = depsgraph
+        self._got = {}             # tree name -> its Model, or the TreeError or DriverError compiling it raised
+
+    def model(self, tree, mark=True):
+        """compile_tree's Model of the tree; ``mark``: show the outcome on its nodes."""
+        got = self._got.get(tree.name)
+        if got is None:
+            try:
+                got = compile_tree(tree, mark=False, depsgraph=self.depsgraph)
+            except (TreeError, DriverError) as e:
+                got = e
+            self._got[tree.name] = got
+        if mark and not isinstance(got, DriverError):
+            show_outcome(tree, got if isinstance(got, TreeError) else None)
+        if isinstance(got, Exception):
+            raise got
+        return got
+
+
+def frame_job(tree, scene, depsgraph=None, compiled=None):
     """The job of the scene's current frame (the scene's other models hiding its lines;
     the console names those whose trees do not compile), and the placement of the model
-    then."""
-    model = compile_tree(tree, depsgraph=depsgraph)
+    then; ``compiled``: the frame's trees compiled so far (:class:`Compiled`)."""
+    compiled = compiled if compiled is not None else Compiled(depsgraph)
+    model = compiled.model(tree)
     place = jobs.placement(tree, depsgraph)
     ink = tree.ink
-    solids, broken = jobs.occluders(scene, tree, depsgraph)
+    solids, broken = jobs.occluders(scene, tree, depsgraph, compiled.model)
     if broken:
         print(f"BlobTree Ink: frame {scene.frame_current} of '{tree.name}': {jobs.hidden_by_note(broken)}")
     job = jobs.job(model, scene, style_of(ink), jobs.tree_settings(ink), look_requests(tree), ink.seed,

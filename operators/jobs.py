@@ -195,21 +195,24 @@ def rendered(tree, scene):
     return ink is None and tree.ink.render_frames and in_scene(tree, scene)
 
 
-def occluders(scene, tree, depsgraph=None):
+def occluders(scene, tree, depsgraph=None, compiler=None):
     """The scene's other models that can hide the tree's lines: (Model, matrix from the
     tree's model coordinates into the other's) of each other tree that shows in renders
     (:func:`rendered`), as ``depsgraph`` evaluates them (default: the context's); and
     the names of those left out because their tree does not compile (the caller says
-    so)."""
+    so). ``compiler(tree, mark)``: how a tree is compiled (default: compile_tree)."""
     from ..blobtree_nodes.animation import DriverError
     from ..blobtree_nodes.compile import TreeError, compile_tree
+    if compiler is None:
+        def compiler(other, mark):
+            return compile_tree(other, mark, depsgraph)
     solids, broken = [], []
     to_scene = placement(tree, depsgraph)
     for other in blobtrees():
         if other == tree or not rendered(other, scene):
             continue
         try:
-            model = compile_tree(other, mark=False, depsgraph=depsgraph)
+            model = compiler(other, mark=False)
         except (TreeError, DriverError):
             broken.append(other.name)
             continue

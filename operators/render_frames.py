@@ -36,12 +36,13 @@ def illustrate(scene, depsgraph=None):
     """Illustrate the scene's frame for every tree that wants it; returns the trees drawn."""
     frame = scene.frame_current
     done = []
+    compiled = FR.Compiled(depsgraph)          # each tree compiled once, to draw it and to hide the others
     for tree in blobtrees():
         if not tree.ink.render_frames or not jobs.in_scene(tree, scene):
             continue
         kept = frame in FR.drawn_frames(tree) and frame not in FR.rendered_frames(tree)
         try:
-            job, _ = FR.frame_job(tree, scene, depsgraph)
+            job, _ = FR.frame_job(tree, scene, depsgraph, compiled)
             if kept:                           # a bake's or the artist's: used as it is, said when it no longer fits
                 _say_unfit(tree, job, frame)
                 continue

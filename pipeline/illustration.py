@@ -83,9 +83,8 @@ class Illustration:
         from; ``remember``: keep what the next frame's can take (:meth:`continuation`)."""
         self.job = job.checked()
         self.previous, self.remember = previous, remember
-        self.ev = self.model_key = None    # the compiled model and its key, the eye, the light and the requests'
-        self.eye = self.light = None   # regions, and the model's centre: made at the initialisation
-        self.centre = None             # (on a runner's worker)
+        # the compiled model and its key, the eye, the light and the model's centre: made by the initialisation
+        self.ev = self.model_key = self.eye = self.light = self.centre = None   # (on a runner's worker)
         self.requests = self.job.requests
         self.style = self.job.style
         self.session = None
@@ -209,7 +208,8 @@ class Illustration:
                               for r in j.requests)
         self.line_radius = line_radius(self.ev)
         self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius, stroke_unit(self.ev),
-                                settled=prev is not None and prev.ev is self.ev, sight=LY.sight(self.ev, j.occluders))
+                                settled=prev is not None and prev.ev is self.ev,
+                                sight=LY.sight(self.ev, j.occluders, prev.occluders if prev is not None else ()))
         self.session = Session(self.ev, View(eye=self.eye), j.settings,
                                previous=prev.session if prev is not None else None, remember=self.remember)
         vertices = self.session.snapshot(stitch=False).vertices
@@ -286,7 +286,7 @@ class Illustration:
         if not self.finished or self.stopping or self.ev is None:
             return None
         traced = "sampling" in self.completed and self.session is not None
-        return Continuation(self.ev, self.session.continuation() if traced else None)
+        return Continuation(self.ev, self.session.continuation() if traced else None, LY.hiders(self.canvas.sight))
 
     def _stroke_layer(self, layer, parts, draw, marks=None, **kw):
         """One part of a stroke layer per step (the parts listed at the layer's first

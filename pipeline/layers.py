@@ -59,12 +59,28 @@ class Canvas:
         return self.line_radius * st.line_width
 
 
-def sight(ev, occluders):
+def sight(ev, occluders, known=()):
     """What hides the model's lines (strokes.visibility.Sight): the model and a job's
-    occluders, compiled here; None without occluders (the model alone)."""
+    occluders, each compiled here unless it is the model of one of the evaluators
+    ``known`` (the last frame's: its plan and surface box are made); None without
+    occluders (the model alone)."""
     if not occluders:
         return None
-    return Sight(ev, tuple((m if isinstance(m, Evaluator) else Evaluator(m), M) for m, M in occluders))
+    return Sight(ev, tuple((_compiled(m, known), M) for m, M in occluders))
+
+
+def hiders(sight):
+    """The evaluators of the other models of a :func:`sight` (none without one)."""
+    return () if sight is None else tuple(ev for ev, _ in sight.others)
+
+
+def _compiled(model, known):
+    if isinstance(model, Evaluator):
+        return model
+    for ev in known:
+        if ev.model is model or (ev.model.name == model.name and ev.model == model):
+            return ev
+    return Evaluator(model)
 
 
 def outlines(cv, sampling, st):

@@ -299,3 +299,38 @@ def test_a_render_draws_a_tree_never_drawn_and_says_when_a_bake_it_keeps_is_out_
     sc.camera.location.x += 2.0                                        # the camera moves away from the bake's
     bpy.context.view_layer.update()
     assert "Silhouette drawn for another viewpoint" in render_3()
+
+
+def test_a_rendered_frame_compiles_each_tree_once_and_marks_only_its_own_errors(ext, example, monkeypatch, capsys):
+    """A render's frame draws every tree, each hidden by the others: each tree is
+    compiled once for all of them; a broken tree is named by the others' frames and
+    marked on its own node by its own frame, as when it is drawn alone."""
+    from aimed_camera import aimed_camera
+    R, FR = mod(ext, "operators.render_frames"), mod(ext, "operators.frames")
+    for _ in range(3):
+        bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    trees = sorted((t for t in bpy.data.node_groups if t.name.startswith("sphere")), key=lambda t: t.name)
+    for tree, x in zip(trees, (-1.5, 0.0, 1.5)):
+        tree.preview_object.location = (x, -1.0 * abs(x), 0.0)
+        tree.ink.grid_resolution = 10
+    aimed_camera((0.0, -9.0, 0.0), (0.0, 0.0, 0.0))
+    sc = bpy.context.scene
+    sc.render.engine = "BLENDER_WORKBENCH"
+    sc.render.resolution_x = sc.render.resolution_y = 64
+    broken = trees[2]
+    point = next(n for n in broken.nodes if getattr(n, "kind", "") == "point")
+    point.radius = -1.0
+    point.set_error("")
+    compiled = []
+    real = FR.compile_tree
+    monkeypatch.setattr(FR, "compile_tree", lambda tree, *a, **k: compiled.append(tree.name) or real(tree, *a, **k))
+    sc.frame_set(4)
+    capsys.readouterr()
+    bpy.ops.render.render(write_still=False)
+    said = capsys.readouterr().out
+    assert sorted(compiled) == sorted(t.name for t in trees)                  # once each, for the three frames
+    assert {(t.name, 4) for t in trees[:2]} <= set(R.drawn) and (broken.name, 4) not in R.drawn
+    assert f"'{broken.name}' hides no lines: its tree is broken" in said
+    assert f"frame 4 of '{broken.name}' not illustrated" in said
+    assert "must be > 0" in point.error and not any(n.error for t in trees[:2] for n in t.nodes
+                                                    if hasattr(n, "error"))

@@ -12,6 +12,7 @@ from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.projection import project
 from blobtree_ink.strokes import style as ST
 from blobtree_ink.strokes.visibility import Sight, visible
+from helpers import same_strokes
 from helpers import job_for
 
 BALL = {"format": "blobtree-1", "root": {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.0}}
@@ -312,6 +313,36 @@ def test_another_solid_of_the_scene_hides_the_lines_behind_it():
     shifted[0, 3] = 0.01
     moved = dataclasses.replace(jobs[1], occluders=((M.from_dict(BALL), shifted),))
     assert len({*key, moved.checked().making("k")}) == 3
+
+
+def test_a_frame_going_on_takes_the_last_frames_occluders_where_they_are_the_same():
+    """A frame going on from the last takes the last frame's compiled occluder (its plan
+    and surface box made) where the occluder's model is the same, wherever it stands,
+    and compiles one whose model changed; it draws what a frame drawn alone draws."""
+    model = M.from_dict({"format": "blobtree-1", "root": {"type": "segment", "a": [-1.5, 0, 0], "b": [1.5, 0, 0],
+                                                          "radius": 0.8}})
+    ball_at = np.eye(4)
+    ball_at[:3, 3] = [0.0, 4.0, 0.0]
+
+    def job(ball, y):
+        at = ball_at.copy()
+        at[1, 3] = y
+        return PL.Job(model, View(eye=np.array([0.0, -8.0, 0.0])), style=ST.style("hatched"),
+                      requests=(PL.Request("OUTLINES"), PL.Request("PLACE_STROKES")), occluders=((ball, at),))
+
+    first = PL.Illustration(job(M.from_dict(BALL), 4.0), remember=True)
+    first.run()
+    kept = first.continuation()
+    assert len(kept.occluders) == 1 and kept.occluders[0].model == M.from_dict(BALL)
+    moved = PL.Illustration(job(M.from_dict(BALL), 4.2), previous=kept, remember=True)   # an equal model, moved
+    going_on = moved.run().strokes
+    assert moved.continuation().occluders[0] is kept.occluders[0]
+    same_strokes(going_on, PL.Illustration(job(M.from_dict(BALL), 4.2)).run().strokes)
+    bigger = M.from_dict({**BALL, "root": {**BALL["root"], "radius": 1.3 * BALL["root"]["radius"]}})
+    grown = PL.Illustration(job(bigger, 4.2), previous=moved.continuation())
+    grown.run()
+    assert grown.canvas.sight.others[0][0] is not kept.occluders[0]
+    assert grown.canvas.sight.others[0][0].model == bigger
 
 
 def test_stipples_keep_clear_of_the_outlines_whichever_request_draws_them(load_example):
