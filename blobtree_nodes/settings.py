@@ -64,12 +64,14 @@ def style_of(ink):
     return ST.style("outlines", **ch)
 
 
-FIELD_ITEMS = [("DIR1", "First Principal", "Along the first principal direction of curvature"),
-               ("DIR2", "Second Principal", "Along the second principal direction of curvature"),
-               ("CONTOUR", "Contour", "Across the view direction, like contour lines"),
-               ("AXIS", "Axis", "Along the axis, projected on the surface"),
-               ("LEVEL", "Level Lines", "Along the level lines of the axis (horizontal for the vertical axis)"),
-               ("STRAIGHT", "Straight", "Keep the initial heading")]
+FIELD_ITEMS = [(key, name, tip, "NONE", number) for key, name, tip, number in (   # numbered as saved files have them
+    ("DIR1", "First Principal", "Along the first principal direction of curvature", 0),
+    ("DIR2", "Second Principal", "Along the second principal direction of curvature", 1),
+    ("DIAGONAL", "Diagonal", "Half way between the principal directions of curvature, 45 degrees from each", 6),
+    ("CONTOUR", "Contour", "Across the view direction, like contour lines", 2),
+    ("AXIS", "Axis", "Along the axis, projected on the surface", 3),
+    ("LEVEL", "Level Lines", "Along the level lines of the axis (horizontal for the vertical axis)", 4),
+    ("STRAIGHT", "Straight", "Keep the initial heading", 5))]
 WEIGHT_TIPS = {
     "flow": "Follow the flow field",
     "wander": "Small random changes of heading (sketchy strokes, stipples)",

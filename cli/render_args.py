@@ -65,7 +65,7 @@ def add_parser(sub):
                    help="layers to draw, comma-separated, replacing the style's: " + ", ".join(ST.LAYER_SWITCHES))
     g.add_argument("--field", choices=L.FIELDS, default=None, help="flow field of hatching and short strokes")
     g.add_argument("--cross-field", choices=L.FIELDS, default=None,
-                   help="flow field of the cross-hatching (default dir2)")
+                   help="flow field of the cross-hatching (default diagonal)")
     g.add_argument("--no-cross", action="store_true", help="no cross-hatching")
     g.add_argument("--axis", default=None, help="x,y,z of the axis flow field")
     g.add_argument("--weights", default=None,

@@ -23,7 +23,7 @@ from ..model.vectors import cross
 from .data import Stroke
 from .visibility import piece, run_points, visible_runs
 
-FIELDS = ("dir1", "dir2", "contour", "axis", "level", "straight")
+FIELDS = ("dir1", "dir2", "diagonal", "contour", "axis", "level", "straight")
 TURN = np.radians(45.0)      # a principal direction this far from a smarticle's heading is noise
 ISOTROPIC = 0.2         # principal directions count where (k1 - k2) exceeds this share of |k1| + |k2|
 # salts of what is decided about a mark (model.keyed)
@@ -56,15 +56,16 @@ def tone(shade, upper, radius, contrast=1.0):
 
 
 def direction_field(kind, axis=None, eye=None):
-    """A flow field for smarticles: "dir1"/"dir2" principal directions, "axis" (a user
+    """A flow field for smarticles: "dir1"/"dir2" principal directions, "diagonal" (half
+    way between them: dir1 turned 45 degrees about the normal, towards dir2), "axis" (a user
     axis projected on the surface), "level" (the level lines of that axis: across it on
     the surface, horizontal for the vertical axis), "contour" (tangent and across the
     view direction), or "straight" (keep the current heading: the path of the initial
     direction). Where the surface bends alike every way (:func:`isotropic`) the
     principal directions are noise: a smarticle keeps its heading there."""
-    if kind in ("dir1", "dir2"):
+    if kind in ("dir1", "dir2", "diagonal"):
         def principal(P, N, c):
-            d = np.array(c[kind], float)
+            d = np.array(c[kind], float) if kind != "diagonal" else st.unit(np.asarray(c["dir1"]) + c["dir2"])
             v = c["velocity"]
             moving = np.linalg.norm(v, axis=1) > 0
             # no direction of its own, or one across the heading (the two principal directions
@@ -301,7 +302,7 @@ def headings(ev, P, kind, ref, axis=None, eye=None):
     H = direction_field(kind, axis, eye)(P, N, c)
     flat = ~(np.linalg.norm(H, axis=1) > 0)                 # "straight" has no field of its own
     H[flat] = c["dir1"][flat]
-    if kind in ("dir1", "dir2", "straight"):
+    if kind in ("dir1", "dir2", "diagonal", "straight"):
         weak = isotropic(c)
         H[weak] = ref[weak]
     H = st.unit(st.tangent(H, N))

@@ -33,10 +33,10 @@ class Style:
     stipples: bool = False
     chains: bool = False                 # strokes started from the feature chains
     short: bool = False                  # short strokes centred on polygon centres
-    hatch_field: str = "dir1"            # dir1, dir2, contour, axis, level, straight
+    hatch_field: str = "dir1"            # dir1, dir2, diagonal, contour, axis, level, straight
     hatch_axis: tuple = (0.0, 0.0, 1.0)
     cross_hatching: bool = True          # a second layer along cross_field in the darkest shade
-    cross_field: str = "dir2"
+    cross_field: str = "diagonal"
     surface: str = "all"                 # start hatching only on convex or concave regions
     weights: object = "hatching"         # preset name or {behaviour: weight}
     flock_size: int = 1                  # > 1: every start spawns a flock of this many

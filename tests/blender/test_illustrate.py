@@ -107,6 +107,17 @@ def test_every_preset_maps_to_its_style_and_back(ext, example):
     assert not [o for o in bpy.data.objects if o.type == "GREASEPENCIL"]
 
 
+def test_a_flow_field_saved_before_the_diagonal_field_reads_as_it_was_saved(example):
+    """The flow fields keep the numbers files saved them with (the diagonal field is
+    numbered after them): a value stored as 0..5 reads as the field it was then."""
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
+    ink = bpy.data.node_groups["sphere"].ink
+    assert ink.cross_field == "DIAGONAL"                                  # the default of a new tree
+    for number, field in enumerate(("DIR1", "DIR2", "CONTOUR", "AXIS", "LEVEL", "STRAIGHT")):
+        ink["hatch_field"] = ink["cross_field"] = number                  # as a saved file holds them
+        assert (ink.hatch_field, ink.cross_field) == (field, field)
+
+
 def test_place_strokes_uses_the_tree_style_and_the_scene_sun(example):
     bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
     tree = bpy.data.node_groups["sphere"]

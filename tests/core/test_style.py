@@ -82,6 +82,26 @@ def test_contour_field_is_tangent_and_across_the_view(sphere_session):
         layers.direction_field("spiral")
 
 
+def test_the_diagonal_field_is_half_way_between_the_principal_directions():
+    """On a segment (a tube with distinct principal curvatures) the diagonal field is a
+    unit tangent 45 degrees from each principal direction, dir1 turned towards dir2; a
+    mark's heading along it follows its reference direction's way."""
+    ev = ev_of({"type": "segment", "a": [-2, 0, 0], "b": [2, 0, 0], "radius": 1.0})
+    t = np.linspace(0.3, 2.8, 12)
+    P = np.stack([np.linspace(-0.8, 0.8, 12), K * np.cos(t), K * np.sin(t)], axis=1)
+    _, g = ev.field_grad(P)
+    c = curvature(ev, P, g)
+    d = layers.direction_field("diagonal")(P, c["normal"], {**c, "velocity": np.zeros_like(P)})
+    assert np.allclose(np.linalg.norm(d, axis=1), 1.0)
+    assert np.abs(np.einsum("ij,ij->i", d, c["normal"])).max() < 1e-9
+    assert np.allclose(np.einsum("ij,ij->i", d, c["dir1"]), math.sqrt(0.5))
+    assert np.allclose(np.einsum("ij,ij->i", d, c["dir2"]), math.sqrt(0.5))
+    assert np.allclose(np.abs(d[:, 0]), math.sqrt(0.5), atol=1e-6)       # the tube's axis and its rings
+    ref = -d + 0.1 * c["normal"]
+    H = layers.headings(ev, P, "diagonal", ref)
+    assert np.allclose(H, -d, atol=1e-9)
+
+
 def test_feature_distance_ends_a_stroke_without_its_terminating_point():
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     feat = np.array([[K * math.cos(t), K * math.sin(t), 0.0] for t in np.linspace(0, 2 * math.pi, 400)])
