@@ -5,15 +5,20 @@ ridges are that eye's) and the model (its key, model.fingerprint). A layer drawn
 another viewpoint (pipeline.framing.same_view) or another model than the rest of the
 drawing does not fit it: a request tells which layers it did not redraw are so. And
 all the drawing was made from (pipeline.Job.making): a render uses a drawing shown on
-a frame only where it was made from all the frame's job is, for the very same eye."""
+a frame only where it was made from all the frame's job is, for the very same eye.
+And the other models that hid its lines (pipeline.hiding): when one of them that stood
+between has moved or changed, or another has come between, the drawing is out of date."""
 import numpy as np
 
 from ..pipeline.framing import same_view
+from ..pipeline.hiding import changed
 
 KEY = "blobtree_ink_views"      # the ID property: "layer@frame" -> the eye (model coordinates), or MIXED
 MODELS = "blobtree_ink_models"  # the ID property: "layer@frame" -> the model's key, or MIXED
 MADE = "blobtree_ink_made"      # the ID property: "layer@frame" -> all it was made from but the eye
                                 # (pipeline.Job.making), or MIXED
+HIDERS = "blobtree_ink_hiders"  # the ID property: "layer@frame" -> {other model's name: "key|1" (it stood between
+                                # the eye and the model) or "key|0"} (pipeline.hiding.hiders), or MIXED
 SAME_EYE = 1e-9                 # eyes this close (a share of their distance from the origin, at least 1) are one
 MIXED = "mixed"                 # a drawing with strokes drawn for several eyes or models (a region redrawn)
 VIEWPOINT, MODEL = "viewpoint", "model"     # why a drawing does not fit (:func:`unfit`)
@@ -23,15 +28,18 @@ def _key(layer, frame):
     return f"{layer}@{int(frame)}"
 
 
-def record(obj, layers, frame, eye, centre, region=None, model=None, made=None):
+def record(obj, layers, frame, eye, centre, region=None, model=None, made=None, hiders=None):
     """Remember that ``layers`` of the ink object were drawn on ``frame`` for ``eye``
     (the model's ``centre`` tells two eyes apart; both in the model's coordinates), the
-    model of key ``model`` and all that is ``made`` (the job's key). A drawing redrawn
-    only in a ``region`` for another eye or model than its own, or over strokes drawn
-    before models were kept, holds both: it is mixed from then on."""
+    model of key ``model``, all that is ``made`` (the job's key) and the other models
+    that hid its lines (``hiders``: pipeline.hiding.hiders). A drawing redrawn only in
+    a ``region`` for another eye or model than its own, or over strokes drawn before
+    models were kept, holds both: it is mixed from then on."""
     if eye is None or centre is None or not layers:
         return
-    for prop in (KEY, MODELS, MADE):
+    if hiders is not None:
+        hiders = {name: f"{key}|{int(near)}" for name, (key, near) in hiders.items()}
+    for prop in (KEY, MODELS, MADE, HIDERS):
         if prop not in obj:
             obj[prop] = {}
     views = obj[KEY]                    # set in place: a bake's many frames are not copied each frame
@@ -42,16 +50,17 @@ def record(obj, layers, frame, eye, centre, region=None, model=None, made=None):
             views[key] = MIXED
         else:
             views[key] = [float(v) for v in eye]
-        for prop, value in ((MODELS, model), (MADE, made)):
+        for prop, value in ((MODELS, model), (MADE, made), (HIDERS, hiders)):
             if value is None:
                 continue
             kept = obj[prop].get(key, MIXED if old is not None else None)     # (drawn, none kept: unknown)
+            kept = kept.to_dict() if hasattr(kept, "to_dict") else kept
             obj[prop][key] = MIXED if region is not None and kept is not None and kept != value else value
 
 
 def forget(obj, layers, frame):
     """Forget what ``layers``' drawings on ``frame`` were drawn for (they were cleared)."""
-    for prop in (KEY, MODELS, MADE):
+    for prop in (KEY, MODELS, MADE, HIDERS):
         kept = obj.get(prop)
         for layer in layers if kept is not None else ():
             kept.pop(_key(layer, frame), None)
@@ -76,6 +85,25 @@ def other_model(obj, layers, frame, model):
     models = obj.get(MODELS, {}) if obj is not None else {}
     return [name for name, key, strokes in _shown(obj, layers, frame)
             if strokes and models.get(key) is not None and models[key] != model]
+
+
+def other_hiders(obj, layers, frame, current):
+    """Those of ``layers`` whose drawing shown on ``frame`` has strokes whose hiders are
+    out of date (pipeline.hiding.changed) among those ``current(eye)`` gives ({name:
+    (key, between now)} for the drawing's eye, or None: not known); a drawing with none
+    kept, or mixed, counts as fitting."""
+    kept = obj.get(HIDERS, {}) if obj is not None else {}
+    eyes = obj.get(KEY, {}) if obj is not None else {}
+    out = []
+    for name, key, strokes in _shown(obj, layers, frame):
+        rec, eye = kept.get(key), eyes.get(key)
+        if not strokes or rec is None or isinstance(rec, str) or eye is None or isinstance(eye, str):
+            continue
+        now = current(tuple(eye))
+        was = {n: (v.split("|")[0], v.endswith("|1")) for n, v in rec.to_dict().items()}
+        if now is not None and changed(was, now):
+            out.append(name)
+    return out
 
 
 def holds(obj, layers, frame, eye, made):

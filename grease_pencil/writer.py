@@ -98,7 +98,7 @@ def write(obj, result, frame=1):
     for name in result.appended:
         write_layer(obj, name, result.strokes.layers.get(name, []), frame, keep=lambda P: np.ones(len(P), bool))
     whole = [n for n in result.owned if result.region is None or n not in STROKE_LAYERS]
-    made = dict(model=result.model, made=result.made)
+    made = dict(model=result.model, made=result.made, hiders=result.hiders)
     views.record(obj, whole, frame, result.eye, result.centre, **made)
     views.record(obj, [n for n in result.owned if n not in whole], frame, result.eye, result.centre, result.region,
                  **made)

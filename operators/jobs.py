@@ -220,6 +220,35 @@ def occluders(scene, tree, depsgraph=None, compiler=None):
     return tuple(solids), broken
 
 
+def hiders_now(scene, tree, eye):
+    """{name: (key, between)} of the scene's other models that show in renders, as their
+    previews show them and where they stand now (pipeline.hiding.hiders' record of a
+    drawing, made without compiling them), for the tree's model seen from ``eye`` (its
+    coordinates); None where that is not known (a preview not shown)."""
+    from ..blobtree_nodes import preview
+    from ..pipeline import hiding
+    if tree.preview_object is None:
+        return None
+    drawn = hiding.sphere_of(_box(tree.preview_object), np.eye(4))
+    to_scene = placement(tree)
+    items = []
+    for other in blobtrees():
+        if other == tree or not rendered(other, scene):
+            continue
+        key = preview.shown_model(other)
+        if key is None:
+            return None
+        M = np.array(placement(other).inverted_safe() @ to_scene, float)
+        near = hiding.between(np.asarray(eye, float), drawn, hiding.sphere_of(_box(other.preview_object), M))
+        items.append((other.model_name or other.name, (hiding.place_key(key, M), near)))
+    return hiding.named(items)
+
+
+def _box(obj):
+    corners = np.array([tuple(c) for c in obj.bound_box], float)
+    return corners.min(axis=0), corners.max(axis=0)
+
+
 def hidden_by_note(broken):
     """What a run says of the trees that could hide its lines but do not compile (None
     when there are none)."""

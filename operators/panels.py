@@ -14,6 +14,7 @@ from ..grease_pencil import views
 from ..pipeline.job import SINGLE_LAYER
 from ..strokes.data import LAYERS
 from . import frames as FR
+from . import jobs
 from .common import TREE, active_tree, blobtrees, focus, ink_name
 from .illustrate import REQUESTS, last_run
 from .menus import REQUEST_ICONS
@@ -63,20 +64,28 @@ def _draw_errors(layout, context, tree):
 
 
 STALE = "The ink was drawn before the model changed: a Look draws it again"
+STALE_HIDDEN = "The models in front of this one moved or changed since the ink was drawn: a Look draws it again"
 
 
 def _draw_stale(layout, context, tree):
     """Say so when the ink shown on this frame was drawn for another model than the
     one the preview shows (an edit, a moved object the tree follows, another frame of
-    an animation)."""
+    an animation), or when the other models that hide its lines have moved or changed
+    since (one that stood between the eye and the model, or one that has come between)."""
     obj, key = bpy.data.objects.get(ink_name(tree)), preview.shown_model(tree)
     drawn = [n for n in LAYERS if n != SINGLE_LAYER]          # (the single strokes are the artist's own)
-    if obj is None or obj.type != "GREASEPENCIL" or key is None or \
-            not views.other_model(obj, drawn, context.scene.frame_current, key):
+    if obj is None or obj.type != "GREASEPENCIL" or key is None:
+        return
+    frame, scene = context.scene.frame_current, context.scene
+    if views.other_model(obj, drawn, frame, key):
+        say = STALE
+    elif views.other_hiders(obj, drawn, frame, lambda eye: jobs.hiders_now(scene, tree, eye)):
+        say = STALE_HIDDEN
+    else:
         return
     col = layout.column(align=True)
     col.alert = True
-    for i, line in enumerate(wrap.lines(STALE, wrap.region_text_width(context, context.region.width), context)):
+    for i, line in enumerate(wrap.lines(say, wrap.region_text_width(context, context.region.width), context)):
         col.label(text=line, icon="INFO" if i == 0 else "BLANK1")
 
 

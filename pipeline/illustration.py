@@ -19,7 +19,7 @@ but the outlines of what was traced: a stopped illustration keeps every layer it
 finished, and the outlines found so far with their hidden lines removed.
 """
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import replace
 
 import numpy as np
 from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
@@ -30,51 +30,17 @@ from ..model import Evaluator, fingerprint
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from ..strokes.stipples import Spacing
+from . import hiding as HD
 from . import layers as LY
 from .continuation import Continuation
 from .framing import bounds, default_light, line_radius, stroke_unit, view_eye
 from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
+from .result import Progress, Result
 
 # each stage's share of a run, for the progress figure (sampling: the share of the
 # seeds taken; the stroke layers share theirs equally)
 SHARES = {"init": 0.15, "sampling": 0.5, "outlines": 0.1, "strokes": 0.25}
 STROKE_STAGES = ("hatching", "cross-hatching", "chains", "short", "stipples")
-
-
-@dataclass
-class Progress:
-    """Figures of a run for the status bar: ``fraction`` (0..1) only goes up; the stage
-    being worked on and its number among the stages; the agents' iteration and outline
-    figures."""
-    fraction: float = 0.0
-    stage: str = "init"
-    stage_index: int = 0
-    stages: int = 1
-    iterations: int = 0
-    outlines: int = 0
-    outline_length: float = 0.0
-    seconds: float = 0.0
-
-
-@dataclass
-class Result:
-    """Plain strokes by layer: ``owned`` layers are replaced as a whole by the result's
-    (also where it has none on one; with a ``region``, the owned stroke layers' strokes
-    in that region), ``appended`` ones are added to; the others are not the job's.
-    ``done``: the run reached its end (not stopped)."""
-    strokes: StrokeSet
-    owned: tuple
-    appended: tuple
-    progress: Progress
-    warnings: list = field(default_factory=list)
-    done: bool = False
-    stopped: bool = False
-    region: object = None      # where the owned stroke layers were drawn (None: the whole model): only
-                               # their strokes there are replaced
-    eye: np.ndarray = None     # the eye it was drawn for and the model's centre (model coordinates),
-    centre: np.ndarray = None  # once known (framing.same_view)
-    model: str = None          # the model's key (model.fingerprint), once known
-    made: str = None           # the key of all it is made from but the eye (Job.making), once known
 
 
 class Illustration:
@@ -351,11 +317,10 @@ class Illustration:
             done_shares += share("sampling") * self._sampled(current)
         self._fraction = max(self._fraction, min(1.0, done_shares / sum(share(s) for s in self.stages)))
         outs = current.outlines if current is not None else []
-        return Progress(fraction=self._fraction, stage=self.stage,
-                        stage_index=min(self.at, n), stages=n,
-                        iterations=current.progress.get("iterations", 0) if current is not None else 0,
-                        outlines=len(outs), outline_length=current.progress.get("outline_length", 0.0) if current else 0.0,
-                        seconds=self._seconds)
+        figures = current.progress if current is not None else {}
+        return Progress(fraction=self._fraction, stage=self.stage, stage_index=min(self.at, n), stages=n,
+                        iterations=figures.get("iterations", 0), outlines=len(outs),
+                        outline_length=figures.get("outline_length", 0.0), seconds=self._seconds)
 
     @staticmethod
     def _sampled(sampling):
@@ -385,7 +350,8 @@ class Illustration:
         return Result(out, owned, j.appended_layers(), self.progress(), list(self.warnings),
                       done=self.finished and not self.stopping, stopped=self.stopping, region=self._region(),
                       eye=self.eye, centre=self.centre, model=self.model_key,
-                      made=None if self.model_key is None else j.making(self.model_key))
+                      made=None if self.model_key is None else j.making(self.model_key),
+                      hiders=None if self.model_key is None else HD.hiders(self.ev, self.eye, self.canvas.sight))
 
     def _owned_now(self):
         """The layers the result replaces now: those of the stages begun (a stopped run

@@ -303,6 +303,59 @@ def test_a_layer_redrawn_in_a_region_for_another_viewpoint_is_mixed(ext, example
     assert views.unfit(obj, ["Hatching"], 1, -eye, centre) == {}
 
 
+def test_ink_drawn_before_a_model_in_front_moved_is_said(ext, example):
+    """The ink remembers the models that stood between its model and the eye: once one
+    of them moves or changes, or another comes between, the sidebar says the ink is out
+    of date; a model moved about beside the view hides nothing and is not news."""
+    from types import SimpleNamespace
+
+    from aimed_camera import aimed_camera
+    from recording_layout import Layout
+    panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
+    preview = __import__(f"{ext.__name__}.blobtree_nodes.preview", fromlist=["x"])
+    views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
+    for _ in range(3):
+        bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    back, front, aside = sorted((t for t in bpy.data.node_groups if t.name.startswith("sphere")), key=lambda t: t.name)
+    back.preview_object.location = (0.0, 0.0, 0.0)
+    front.preview_object.location = (0.3, -2.5, 0.0)
+    aside.preview_object.location = (6.0, 0.0, 0.0)
+    aimed_camera((0.0, -8.0, 0.0), (0.0, 0.0, 0.0))
+    for t in (back, front, aside):
+        t.ink.grid_resolution = 10
+        preview.rebuild(t)
+    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
+                              preferences=bpy.context.preferences)
+
+    def stale():
+        bpy.context.view_layer.update()
+        rec = Layout()
+        panels._draw_stale(rec, context, back)
+        return " ".join(i["text"] for i in rec.of("label")).replace("  ", " ")
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, request="OUTLINES") == {"FINISHED"}
+    kept = bpy.data.objects[f"{back.name} Ink"][views.HIDERS]["Silhouette@1"].to_dict()
+    assert sorted(kept) == [front.name, aside.name]
+    assert kept[front.name].endswith("|1") and kept[aside.name].endswith("|0")
+    assert stale() == ""
+    aside.preview_object.location.z += 1.0                    # beside the view: hides nothing, then or now
+    assert stale() == ""
+    front.preview_object.location.x += 0.4                    # the model in front moves
+    assert stale() == panels.STALE_HIDDEN.replace("  ", " ")
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, request="OUTLINES") == {"FINISHED"}
+    assert stale() == ""
+    node = next(n for n in front.nodes if getattr(n, "kind", "") == "point")
+    node.radius *= 1.2                                        # ... or changes
+    preview.rebuild(front)
+    assert stale() == panels.STALE_HIDDEN.replace("  ", " ")
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, request="OUTLINES") == {"FINISHED"}
+    aside.preview_object.location = (0.0, -3.0, 0.5)          # another comes between
+    assert stale() == panels.STALE_HIDDEN.replace("  ", " ")
+    aside.preview_object.location = (6.0, 0.0, 0.0)
+    assert stale() == ""
+    front.ink.render_frames, front.preview_object.hide_render = False, True    # the one in front renders no more
+    assert stale() == panels.STALE_HIDDEN.replace("  ", " ")
+
+
 def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, example):
     """Each layer remembers the model it was drawn for (model.fingerprint): after an
     edit the sidebar says the ink is out of date; a Look traces the outlines again and

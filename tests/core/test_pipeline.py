@@ -345,6 +345,42 @@ def test_a_frame_going_on_takes_the_last_frames_occluders_where_they_are_the_sam
     assert grown.canvas.sight.others[0][0].model == bigger
 
 
+def test_a_drawing_records_which_other_models_stood_between_it_and_the_eye():
+    """A result records each other model by name: the key of the model where it stood,
+    and whether it stood between the eye and the drawn model; a drawing is out of date
+    when one that stood between moves, changes or goes, or another comes between, not
+    when one beside the view moves."""
+    from blobtree_ink.pipeline import hiding as HD
+    model = M.from_dict({"format": "blobtree-1", "root": {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.0}})
+
+    def at(x, y, z, name):
+        A = np.eye(4)
+        A[:3, 3] = [-x, -y, -z]                  # the other's coordinates: model point p is other point p - (x, y, z)
+        return dataclasses.replace(M.from_dict(BALL), name=name), A
+    eye = np.array([0.0, -8.0, 0.0])
+    others = (at(0.2, -3.0, 0.0, "front"), at(6.0, 0.0, 0.0, "aside"), at(0.0, 4.0, 0.0, "behind"))
+    res = PL.Illustration(PL.Job(model, View(eye=eye), occluders=others)).run()
+    assert {k: v[1] for k, v in res.hiders.items()} == {"front": True, "aside": False, "behind": False}
+    assert PL.Illustration(PL.Job(model, View(eye=eye))).run().hiders == {}
+    ball, A = at(0.2, -3.0, 0.0, "front")
+    assert HD.place_key(M.fingerprint(ball), A) == res.hiders["front"][0]
+    now = dict(res.hiders)
+    assert not HD.changed(res.hiders, now)
+    assert not HD.changed(res.hiders, {**now, "aside": ("moved", False)})          # beside the view, then and now
+    assert HD.changed(res.hiders, {**now, "aside": ("moved", True)})               # ... come between
+    assert HD.changed(res.hiders, {**now, "front": ("moved", False)})              # the one between moved away
+    assert HD.changed(res.hiders, {k: v for k, v in now.items() if k != "front"})  # ... or is gone
+    assert not HD.changed(res.hiders, {k: v for k, v in now.items() if k != "aside"})
+    assert HD.changed(res.hiders, {**now, "new": ("k", True)})                     # a new one between
+    assert not HD.changed(res.hiders, {**now, "new": ("k", False)})
+    assert HD.named([("a", 1), ("b", 2), ("a", 3)]) == {"a": 1, "b": 2, "a#2": 3}
+    c, r = np.zeros(3), 1.0
+    assert HD.between(eye, (c, r), (np.array([0.0, -3.0, 0.0]), 0.5))            # in front
+    assert not HD.between(eye, (c, r), (np.array([0.0, 3.0, 0.0]), 0.5))         # behind it
+    assert not HD.between(eye, (c, r), (np.array([3.0, -3.0, 0.0]), 0.5))         # beside it
+    assert HD.between(eye, (c, r), (eye + [0.0, 0.1, 0.0], 0.5))                 # round the eye
+
+
 def test_stipples_keep_clear_of_the_outlines_whichever_request_draws_them(load_example):
     """No stipple touches a visible outline on the paper; Place Strokes alone, given the
     outlines drawn already (the ink's), draws the stipples a look (outlines and strokes
