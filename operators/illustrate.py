@@ -129,7 +129,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.unfit = {}                 # the layers a look clears once done: {layer: why}
         if obj is not None:             # what is drawn already, and for which viewpoint and model
             look = self.preset != NO_PRESET
-            elsewhere = jobs.drawn_elsewhere(obj, job, frame, *framing())
+            elsewhere = jobs.drawn_elsewhere(obj, job, frame, *framing(), context.scene, tree)
             if look and self.preset != "OUTLINES" and not job.wants_outline_layers() \
                     and set(jobs.traced_layers(job)) & set(elsewhere):
                 job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing

@@ -220,11 +220,13 @@ def occluders(scene, tree, depsgraph=None, compiler=None):
     return tuple(solids), broken
 
 
-def hiders_now(scene, tree, eye):
+def hiders_now(scene, tree, eye, keys=None):
     """{name: (key, between)} of the scene's other models that show in renders, as their
     previews show them and where they stand now (pipeline.hiding.hiders' record of a
     drawing, made without compiling them), for the tree's model seen from ``eye`` (its
-    coordinates); None where that is not known (a preview not shown)."""
+    coordinates); None where that is not known (a preview not shown). ``keys``: {model
+    name: model.fingerprint} of the models as compiled (those left out do not compile:
+    they hide nothing), in place of their previews'."""
     from ..blobtree_nodes import preview
     from ..pipeline import hiding
     if tree.preview_object is None:
@@ -235,12 +237,15 @@ def hiders_now(scene, tree, eye):
     for other in blobtrees():
         if other == tree or not rendered(other, scene):
             continue
-        key = preview.shown_model(other)
-        if key is None:
+        name = other.model_name or other.name
+        if keys is not None and name not in keys:
+            continue
+        key = preview.shown_model(other) if keys is None else keys[name]
+        if key is None or other.preview_object is None:
             return None
         M = np.array(placement(other).inverted_safe() @ to_scene, float)
         near = hiding.between(np.asarray(eye, float), drawn, hiding.sphere_of(_box(other.preview_object), M))
-        items.append((other.model_name or other.name, (hiding.place_key(key, M), near)))
+        items.append((name, (hiding.place_key(key, M), near)))
     return hiding.named(items)
 
 
@@ -266,16 +271,22 @@ def tree_settings(ink):
                     kinds=tuple(k for k in FEATURE_KINDS if getattr(ink, f"line_{k}")))
 
 
-def drawn_elsewhere(obj, job, frame, centre, radius):
+def drawn_elsewhere(obj, job, frame, centre, radius, scene, tree):
     """{layer: why} of the layers of the ink object ``obj`` shown on ``frame`` that
     ``job`` leaves as they are but that were drawn for another model than the job's
     (views.MODEL), or for an eye that does not see the model as the job's does
     (views.VIEWPOINT; the model's ``centre`` and ``radius`` place its three-quarter eye,
-    without a view). The single strokes are the artist's own, from wherever they were
-    drawn."""
+    without a view), or before the models in front of it (the job's occluders, in the
+    ``tree``'s ``scene``) moved or changed (HIDDEN). The single strokes are the
+    artist's own, from wherever they were drawn."""
     eye = PL.view_eye(job.view, centre, radius)
     mine = set(job.owned_layers()) | set(job.appended_layers()) | {SINGLE_LAYER}
-    return views.unfit(obj, [n for n in LAYERS if n not in mine], frame, eye, centre, model_key(job))
+    left = [n for n in LAYERS if n not in mine]
+    out = views.unfit(obj, left, frame, eye, centre, model_key(job))
+    keys = {m.name: fingerprint(m) for m in (x.model if isinstance(x, Evaluator) else x for x, _ in job.occluders)}
+    hidden = views.other_hiders(obj, [n for n in left if n not in out], frame,
+                                lambda at: hiders_now(scene, tree, at, keys))
+    return {**out, **dict.fromkeys(hidden, HIDDEN)}
 
 
 def model_key(job):
@@ -289,8 +300,10 @@ def traced_layers(job):
 
 
 ANOTHER_LOOK = "look"        # why a look clears a layer: its style draws none (another look's strokes)
+HIDDEN = "hidden"            # ... or why a layer does not fit: drawn before the models in front of it moved
 WHY = {views.VIEWPOINT: ("drawn for another viewpoint", "for this one"),
        views.MODEL: ("drawn before the model changed", "again"),
+       HIDDEN: ("drawn before the models in front of it moved or changed", "again"),
        ANOTHER_LOOK: ("not in this look", "")}
 
 
@@ -301,7 +314,7 @@ def elsewhere_note(unfit, job):
     when there are none)."""
     placed = [STYLE_LAYERS[k] for k in job.style.stroke_switches()]
     say = []
-    for why, (drawn, redrawn) in ((w, WHY[w]) for w in (views.VIEWPOINT, views.MODEL)):
+    for why, (drawn, redrawn) in ((w, WHY[w]) for w in (views.VIEWPOINT, views.MODEL, HIDDEN)):
         layers = [n for n, w in unfit.items() if w == why]
         traced = [n for n in layers if n in traced_layers(job)]
         for names, what in ((traced, f"Trace Feature Outlines draws {{}} {redrawn}"),

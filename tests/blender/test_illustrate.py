@@ -314,6 +314,7 @@ def test_ink_drawn_before_a_model_in_front_moved_is_said(ext, example):
     panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
     preview = __import__(f"{ext.__name__}.blobtree_nodes.preview", fromlist=["x"])
     views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
+    run = __import__(f"{ext.__name__}.operators.illustrate", fromlist=["x"]).last_run
     for _ in range(3):
         bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
     back, front, aside = sorted((t for t in bpy.data.node_groups if t.name.startswith("sphere")), key=lambda t: t.name)
@@ -354,6 +355,19 @@ def test_ink_drawn_before_a_model_in_front_moved_is_said(ext, example):
     assert stale() == ""
     front.ink.render_frames, front.preview_object.hide_render = False, True    # the one in front renders no more
     assert stale() == panels.STALE_HIDDEN.replace("  ", " ")
+    # a look draws the outlines again, though the model and the eye are the ones they were drawn for
+    front.ink.render_frames, front.preview_object.hide_render = True, False
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, preset="HATCHED") == {"FINISHED"}
+    assert stale() == ""
+    front.preview_object.location.x -= 0.4
+    assert stale() == panels.STALE_HIDDEN.replace("  ", " ")
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, preset="HATCHED") == {"FINISHED"}
+    assert run["iterations"] > 0 and stale() == ""
+    front.preview_object.location.x += 0.4                    # a request leaves the outlines, and says why
+    bpy.ops.object.select_all(action="DESELECT")              # (its region: the whole model)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, request="PLACE_STROKES") == {"FINISHED"}
+    assert run["warnings"] == ["Silhouette drawn before the models in front of it moved or changed: Trace Feature "
+                               "Outlines draws it again"]
 
 
 def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, example):
