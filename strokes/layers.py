@@ -10,8 +10,11 @@ places, the wander) is drawn from its key (model.keyed), not from a run's genera
 Lighting: with a light direction L, a point is lit by max(0, n.L). Strokes go where
 the surface is shaded: below ``lower`` always, above ``upper`` never, and between them
 (the penumbra) at random with a probability growing with the shade. A stroke is
-shortened where it leaves the shaded region. Each point's radius and opacity follow
-its shade (:func:`tone`): darker, thicker and blacker.
+shortened where it leaves the shaded region; a hatching stroke where it leaves its
+own share of it, its light limit drawn from its mark between ``upper`` and FRAYED of
+the penumbra below it, so the hatching's edge towards the light frays out instead of
+ending in a row of cut ends. Each point's radius and opacity follow its shade
+(:func:`tone`): darker, thicker and blacker.
 """
 import numpy as np
 
@@ -31,6 +34,8 @@ SHADE = 1               # whether a mark in the penumbra gets a stroke
 FLOCK = 2               # whether a mark spawns a flock
 FLOCK_PLACE = 3         # where a flock's member starts
 BACKWARDS = 4           # the smarticle of a short stroke's other half
+FRAY = 5                # where a hatching stroke leaves the shade
+FRAYED = 0.5            # hatching strokes end between the penumbra's top and this share of it below
 
 
 def lighting(normals, light_dir):
@@ -117,19 +122,20 @@ def flock_keys(keys, size):
 
 
 def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0, min_points=2, keys=None,
-                   sight=None):
-    """Smarticle paths as strokes: cut where they leave the shade (or the region),
-    split where they go out of sight (one batched visibility test against ``sight``, a
-    strokes.visibility.Sight: default the model's own solid alone), toned by the shade;
-    each stroke keeps its smarticle's key (``keys``) as its mark. All paths' points are
-    lit, cut and toned together."""
+                   sight=None, lower=None):
+    """Smarticle paths as strokes: cut where they leave the shade (or the region; with
+    ``lower`` and ``keys``, each where it leaves its own share of the shade,
+    :func:`limits`), split where they go out of sight (one batched visibility test
+    against ``sight``, a strokes.visibility.Sight: default the model's own solid
+    alone), toned by the shade; each stroke keeps its smarticle's key (``keys``) as its
+    mark. All paths' points are lit, cut and toned together."""
     if not res.paths:
         return []
     sizes = np.array([len(p) for p in res.paths])
     P = np.concatenate([np.asarray(p, float).reshape(-1, 3) for p in res.paths])
     N = np.concatenate([np.asarray(n, float).reshape(-1, 3) for n in res.normals])
     shade = lighting(N, light)
-    inside = shade <= upper
+    inside = shade <= (upper if lower is None or keys is None else np.repeat(limits(keys, lower, upper), sizes))
     if region is not None:
         inside &= region.contains(P)
     # each path shortened where it first leaves the shade
@@ -153,6 +159,12 @@ def shaded_strokes(ev, res, eye, light, upper, radius, region=None, contrast=1.0
             out.append(Stroke(run_points(P, run), piece(r, run), piece(o, run),
                               mark=None if marks[k] is None else int(marks[k])))
     return out
+
+
+def limits(keys, lower, upper):
+    """The light at which each hatching stroke (by its smarticle's key) ends: from
+    ``upper`` down to FRAYED of the penumbra (``lower`` to ``upper``) below it."""
+    return upper - FRAYED * (upper - lower) * keyed.uniform(np.asarray(keys, np.uint64), FRAY)
 
 
 def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.25, upper=0.6, weights=None,
@@ -190,7 +202,8 @@ def hatching(ev, marks, eye, light, step, field="dir1", axis=(0, 0, 1), lower=0.
         run(marks.take(flocks))
     lit = lighting(marks.normals, light)
     res, keys = run(marks.take(flocks & chosen_for_shade(lit, lower, upper, keyed.uniform(marks.keys, salt, SHADE))))
-    out = shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys, sight=sight)
+    out = shaded_strokes(ev, res, eye, light, upper, radius, rules.region, contrast, keys=keys, sight=sight,
+                         lower=lower)
     return out if crowding is None else crowding.thinned(out)
 
 

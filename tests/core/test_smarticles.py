@@ -114,12 +114,18 @@ def test_hatching_only_in_shade_and_stipples_are_dots():
     strokes = layers.hatching(ev, marks, eye, light, 0.02, field="dir1", lower=0.2, upper=0.5)
     assert strokes
     L = np.array(light) / np.linalg.norm(light)
+    ends = []                                       # strokes that end where they leave their share
     for s in strokes:
         nn = s.points / K
-        assert (nn @ L).max() <= 0.5 + 1e-9           # shortened where it would leave the shade
+        limit = layers.limits([s.mark], 0.2, 0.5)[0]
+        assert 0.5 - layers.FRAYED * 0.3 - 1e-12 <= limit <= 0.5
+        assert (nn @ L).max() <= limit + 1e-9         # shortened where it would leave its share of the shade
         assert (s.points[:, 1] < 0.05).all()          # only the side facing the eye is drawn
         assert not s.dots
         assert s.mark in set(int(k) for k in marks.keys)
+        if (nn @ L).max() > limit - 0.02:
+            ends.append(limit)
+    assert len(ends) >= 10 and np.ptp(ends) > 0.5 * layers.FRAYED * 0.3      # not on one line of light
     dots = SP.stipples(ev, marks, eye, light, 0.02)
     assert dots and all(s.dots and len(s.points) == 1 for s in dots)
     assert len({s.mark for s in dots}) == len(dots)            # every dot its own mark
