@@ -11,14 +11,14 @@ between has moved or changed, or another has come between, the drawing is out of
 import numpy as np
 
 from ..pipeline.framing import same_view
-from ..pipeline.hiding import changed
+from ..pipeline.hiding import changed, decoded, encoded
 
 KEY = "blobtree_ink_views"      # the ID property: "layer@frame" -> the eye (model coordinates), or MIXED
 MODELS = "blobtree_ink_models"  # the ID property: "layer@frame" -> the model's key, or MIXED
 MADE = "blobtree_ink_made"      # the ID property: "layer@frame" -> all it was made from but the eye
                                 # (pipeline.Job.making), or MIXED
-HIDERS = "blobtree_ink_hiders"  # the ID property: "layer@frame" -> {other model's name: "key|1" (it stood between
-                                # the eye and the model) or "key|0"} (pipeline.hiding.hiders), or MIXED
+HIDERS = "blobtree_ink_hiders"  # the ID property: "layer@frame" -> the other models that hid its lines
+                                # (pipeline.hiding.encoded), or MIXED
 SAME_EYE = 1e-9                 # eyes this close (a share of their distance from the origin, at least 1) are one
 MIXED = "mixed"                 # a drawing with strokes drawn for several eyes or models (a region redrawn)
 VIEWPOINT, MODEL = "viewpoint", "model"     # why a drawing does not fit (:func:`unfit`)
@@ -37,8 +37,7 @@ def record(obj, layers, frame, eye, centre, region=None, model=None, made=None, 
     models were kept, holds both: it is mixed from then on."""
     if eye is None or centre is None or not layers:
         return
-    if hiders is not None:
-        hiders = {name: f"{key}|{int(near)}" for name, (key, near) in hiders.items()}
+    hiders = None if hiders is None else encoded(hiders)
     for prop in (KEY, MODELS, MADE, HIDERS):
         if prop not in obj:
             obj[prop] = {}
@@ -54,8 +53,15 @@ def record(obj, layers, frame, eye, centre, region=None, model=None, made=None, 
             if value is None:
                 continue
             kept = obj[prop].get(key, MIXED if old is not None else None)     # (drawn, none kept: unknown)
-            kept = kept.to_dict() if hasattr(kept, "to_dict") else kept
-            obj[prop][key] = MIXED if region is not None and kept is not None and kept != value else value
+            obj[prop][key] = MIXED if region is not None and kept is not None and _differ(prop, kept, value) else value
+
+
+def _differ(prop, kept, value):
+    """Whether a region redrawn for ``value`` leaves the drawing mixed with strokes drawn
+    for ``kept``: other models' moves that hid nothing then or now do not count."""
+    if prop != HIDERS or kept == MIXED:
+        return kept != value
+    return changed(decoded(kept), decoded(value))
 
 
 def forget(obj, layers, frame):
@@ -94,14 +100,15 @@ def other_hiders(obj, layers, frame, current):
     kept, or mixed, counts as fitting."""
     kept = obj.get(HIDERS, {}) if obj is not None else {}
     eyes = obj.get(KEY, {}) if obj is not None else {}
-    out = []
+    out, now = [], {}
     for name, key, strokes in _shown(obj, layers, frame):
         rec, eye = kept.get(key), eyes.get(key)
-        if not strokes or rec is None or isinstance(rec, str) or eye is None or isinstance(eye, str):
+        if not strokes or rec is None or rec == MIXED or eye is None or isinstance(eye, str):
             continue
-        now = current(tuple(eye))
-        was = {n: (v.split("|")[0], v.endswith("|1")) for n, v in rec.to_dict().items()}
-        if now is not None and changed(was, now):
+        eye = tuple(float(v) for v in eye)
+        if eye not in now:                    # (the layers of one drawing share their eye)
+            now[eye] = current(eye)
+        if now[eye] is not None and changed(decoded(rec), now[eye]):
             out.append(name)
     return out
 

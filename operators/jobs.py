@@ -207,46 +207,60 @@ def occluders(scene, tree, depsgraph=None, compiler=None):
         def compiler(other, mark):
             return compile_tree(other, mark, depsgraph)
     solids, broken = [], []
-    to_scene = placement(tree, depsgraph)
-    for other in blobtrees():
-        if other == tree or not rendered(other, scene):
-            continue
+    for other, into, _ in _others(scene, tree, depsgraph):
         try:
             model = compiler(other, mark=False)
         except (TreeError, DriverError):
             broken.append(other.name)
             continue
-        solids.append((model, np.array(placement(other, depsgraph).inverted_safe() @ to_scene, float)))
+        solids.append((model, into))
     return tuple(solids), broken
 
 
-def hiders_now(scene, tree, eye, keys=None):
+def _others(scene, tree, depsgraph=None):
+    """(tree, the matrix from the tree's model coordinates into its, and back) of each
+    other tree of the scene that shows in renders (:func:`rendered`)."""
+    to_scene = placement(tree, depsgraph)
+    for other in blobtrees():
+        if other != tree and rendered(other, scene):
+            place = placement(other, depsgraph)
+            yield (other, np.array(place.inverted_safe() @ to_scene, float),
+                   np.array(to_scene.inverted_safe() @ place, float))
+
+
+def hiders_now(scene, tree, eye, keys=None, depsgraph=None):
     """{name: (key, between)} of the scene's other models that show in renders, as their
     previews show them and where they stand now (pipeline.hiding.hiders' record of a
     drawing, made without compiling them), for the tree's model seen from ``eye`` (its
-    coordinates); None where that is not known (a preview not shown). ``keys``: {model
-    name: model.fingerprint} of the models as compiled (those left out do not compile:
-    they hide nothing), in place of their previews'."""
+    coordinates); None where that is not known (a preview not shown). A tree whose
+    nodes show an error hides nothing (a drawing leaves it out). ``keys``: {model name:
+    model.fingerprint} of the models as compiled (those left out do not compile), in
+    place of their previews'; ``depsgraph``: as :func:`occluders`."""
     from ..blobtree_nodes import preview
+    from ..blobtree_nodes.panels import nodes_with_errors
     from ..pipeline import hiding
     if tree.preview_object is None:
         return None
     drawn = hiding.sphere_of(_box(tree.preview_object), np.eye(4))
-    to_scene = placement(tree)
     items = []
-    for other in blobtrees():
-        if other == tree or not rendered(other, scene):
-            continue
+    for other, into, back in _others(scene, tree, depsgraph):
         name = other.model_name or other.name
-        if keys is not None and name not in keys:
+        if (keys is None and nodes_with_errors(other)) or (keys is not None and name not in keys):
             continue
         key = preview.shown_model(other) if keys is None else keys[name]
         if key is None or other.preview_object is None:
             return None
-        M = np.array(placement(other).inverted_safe() @ to_scene, float)
-        near = hiding.between(np.asarray(eye, float), drawn, hiding.sphere_of(_box(other.preview_object), M))
-        items.append((name, (hiding.place_key(key, M), near)))
+        near = hiding.between(np.asarray(eye, float), drawn, hiding.sphere_of(_box(other.preview_object), back))
+        items.append((name, (hiding.place_key(key, into), near)))
     return hiding.named(items)
+
+
+def moved_hiders(obj, job, layers, frame, scene, tree, depsgraph=None):
+    """Those of ``layers`` of the ink object shown on ``frame`` drawn before the models
+    in front of them moved or changed (pipeline.hiding.changed), the job's occluders
+    taken as compiled (and placed as ``depsgraph`` evaluates them: as :func:`occluders`)."""
+    keys = {m.name: fingerprint(m) for m in (x.model if isinstance(x, Evaluator) else x for x, _ in job.occluders)}
+    return views.other_hiders(obj, layers, frame, lambda at: hiders_now(scene, tree, at, keys, depsgraph))
 
 
 def _box(obj):
@@ -283,9 +297,7 @@ def drawn_elsewhere(obj, job, frame, centre, radius, scene, tree):
     mine = set(job.owned_layers()) | set(job.appended_layers()) | {SINGLE_LAYER}
     left = [n for n in LAYERS if n not in mine]
     out = views.unfit(obj, left, frame, eye, centre, model_key(job))
-    keys = {m.name: fingerprint(m) for m in (x.model if isinstance(x, Evaluator) else x for x, _ in job.occluders)}
-    hidden = views.other_hiders(obj, [n for n in left if n not in out], frame,
-                                lambda at: hiders_now(scene, tree, at, keys))
+    hidden = moved_hiders(obj, job, [n for n in left if n not in out], frame, scene, tree)
     return {**out, **dict.fromkeys(hidden, HIDDEN)}
 
 

@@ -44,7 +44,7 @@ def illustrate(scene, depsgraph=None):
         try:
             job, _ = FR.frame_job(tree, scene, depsgraph, compiled)
             if kept:                           # a bake's or the artist's: used as it is, said when it no longer fits
-                _say_unfit(tree, job, frame)
+                _say_unfit(tree, job, frame, scene, depsgraph)
                 continue
             if FR.holds(tree, job, frame):     # a drawing made from all this frame's job is: used as it is
                 continue
@@ -61,9 +61,10 @@ def illustrate(scene, depsgraph=None):
     return done
 
 
-def _say_unfit(tree, job, frame):
+def _say_unfit(tree, job, frame, scene, depsgraph=None):
     """Print (once a render) which layers of a drawing the render keeps were drawn for
-    another model or viewpoint than the frame's."""
+    another model or viewpoint than the frame's, or before the models in front of them
+    moved or changed."""
     obj = bpy.data.objects.get(ink_name(tree))
     if obj is None or (tree.name, frame) in _warned:
         return
@@ -72,6 +73,8 @@ def _say_unfit(tree, job, frame):
     if not unfit and (job.view is None or not views.drawn_at(obj, layers, frame, job.view.eye)):
         centre, radius = PL.bounds(Evaluator(job.model))        # (only to tell another viewpoint)
         unfit = views.unfit(obj, layers, frame, PL.view_eye(job.view, centre, radius), centre)
+    if not unfit:
+        unfit = dict.fromkeys(jobs.moved_hiders(obj, job, layers, frame, scene, tree, depsgraph), jobs.HIDDEN)
     if unfit:
         _warned.append((tree.name, frame))
         said = "; ".join(f"{name} {jobs.WHY[why][0]}" for name, why in unfit.items())

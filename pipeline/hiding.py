@@ -5,20 +5,20 @@ model that stood between has moved, changed or gone, or when another has come be
 (:func:`changed`); one that moved elsewhere, away from the view of the drawn model,
 hid nothing and hides nothing."""
 import hashlib
+import json
 
 import numpy as np
 
 from ..blackboard.polygonise import surface_box
-from ..model import fingerprint
+from ..model import key_of
 from .framing import bounds
-from .job import LIGHT_DIGITS
+from .job import placed
 
 
 def place_key(model_key, matrix):
     """The key of a model (``model_key``, its model.fingerprint) standing where
     ``matrix`` (4x4, from the drawn model's coordinates into its own) puts it."""
-    text = repr((model_key, np.round(np.asarray(matrix, float), LIGHT_DIGITS).tolist()))
-    return hashlib.sha1(text.encode("utf-8")).hexdigest()[:16]
+    return hashlib.sha1(repr(placed(model_key, matrix)).encode("utf-8")).hexdigest()[:16]
 
 
 def between(eye, sphere, other):
@@ -34,12 +34,12 @@ def between(eye, sphere, other):
     return bool(apart <= np.arcsin(r / d) + np.arcsin(r2 / d2) and d2 - r2 < d + r)
 
 
-def sphere_of(box, matrix):
+def sphere_of(box, back):
     """The sphere round a box (lo, hi) of another model's coordinates, in the drawn
-    model's (``matrix`` takes the drawn model's coordinates into the other's)."""
+    model's (``back``: the 4x4 matrix from the other's coordinates into the drawn's)."""
     lo, hi = box
     corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
-    back = np.linalg.inv(np.asarray(matrix, float))
+    back = np.asarray(back, float)
     P = corners @ back[:3, :3].T + back[:3, 3]
     centre = P.mean(axis=0)
     return centre, float(np.linalg.norm(P - centre, axis=1).max())
@@ -65,13 +65,21 @@ def hiders(ev, eye, sight):
         return {}
     drawn = bounds(ev)
     items = []
-    for other, M in sight.others:
-        memo = other.memo
-        key = memo.get("fingerprint") or memo.setdefault("fingerprint", fingerprint(other.model))
+    for other, M in sight.others:               # (a job's occluder matrices are checked invertible)
         box = surface_box(other)
-        near = box is not None and between(np.asarray(eye, float), drawn, sphere_of(box, M))
-        items.append((other.model.name, (place_key(key, M), near)))
+        near = box is not None and between(np.asarray(eye, float), drawn, sphere_of(box, np.linalg.inv(M)))
+        items.append((other.model.name, (place_key(key_of(other), M), near)))
     return named(items)
+
+
+def encoded(hiders):
+    """:func:`hiders` as one string, as a drawing keeps it (names of any length)."""
+    return json.dumps({name: [key, bool(near)] for name, (key, near) in hiders.items()}, sort_keys=True)
+
+
+def decoded(text):
+    """The hiders an :func:`encoded` string holds."""
+    return {name: (key, bool(near)) for name, (key, near) in json.loads(text).items()}
 
 
 def changed(recorded, current):

@@ -26,7 +26,7 @@ from numpy.random import default_rng    # numpy imports it lazily: here, not in 
 
 from ..agents import Session
 from ..blackboard.view import View
-from ..model import Evaluator, fingerprint
+from ..model import Evaluator, key_of
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
 from ..strokes.stipples import Spacing
@@ -158,8 +158,7 @@ class Illustration:
             self.ev = prev.ev                  # the last frame's model: its plan, size and marks as made
         else:
             self.ev = Evaluator(j.model)
-        memo = self.ev.memo                            # the model's key: made once per evaluator
-        self.model_key = memo.get("fingerprint") or memo.setdefault("fingerprint", fingerprint(self.ev.model))
+        self.model_key = key_of(self.ev)
         centre, radius = bounds(self.ev)
         self.centre = centre
         self.eye = view_eye(j.view, centre, radius)
@@ -351,7 +350,7 @@ class Illustration:
                       done=self.finished and not self.stopping, stopped=self.stopping, region=self._region(),
                       eye=self.eye, centre=self.centre, model=self.model_key,
                       made=None if self.model_key is None else j.making(self.model_key),
-                      hiders=None if self.model_key is None else HD.hiders(self.ev, self.eye, self.canvas.sight))
+                      hiders=None if self.canvas is None else HD.hiders(self.ev, self.eye, self.canvas.sight))
 
     def _owned_now(self):
         """The layers the result replaces now: those of the stages begun (a stopped run

@@ -20,6 +20,12 @@ SINGLE_LAYER = "Single Strokes"
 LIGHT_DIGITS = 9            # decimals of a light's direction or position that tell two drawings apart
 
 
+def placed(model_key, matrix):
+    """A model (its key, model.fingerprint) standing where ``matrix`` puts it, as drawings
+    tell such models apart: the key and the matrix rounded to LIGHT_DIGITS."""
+    return model_key, np.round(np.asarray(matrix, float), LIGHT_DIGITS).tolist()
+
+
 class JobError(ValueError):
     """A job that cannot be illustrated; the message names what is wrong."""
 
@@ -166,8 +172,7 @@ class Job:
         settings and the occluders (their models' keys and places). Two checked jobs with
         one key, seen from one eye, draw alike."""
         light = [None if v is None else [round(float(x), LIGHT_DIGITS) for x in v] for v in (self.light, self.light_at)]
-        hiding = [(fingerprint(m.model if isinstance(m, Evaluator) else m),
-                   np.round(np.asarray(M, float), LIGHT_DIGITS).tolist()) for m, M in self.occluders]
+        hiding = [placed(fingerprint(m.model if isinstance(m, Evaluator) else m), M) for m, M in self.occluders]
         text = repr((model_key, light, self.style, self.seed, self.settings) + ((hiding,) if hiding else ()))
         return hashlib.sha1(text.encode("utf-8")).hexdigest()[:16]
 

@@ -77,7 +77,7 @@ def hiders(sight):
 def _compiled(model, known):
     if isinstance(model, Evaluator):
         return model
-    for ev in known:
+    for ev in known:            # (the names first: two different models seldom share one, and compare at once)
         if ev.model is model or (ev.model.name == model.name and ev.model == model):
             return ev
     return Evaluator(model)

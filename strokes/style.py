@@ -101,7 +101,7 @@ class Style:
 STYLES = {
     "outlines": Style(),
     "stippled": Style(stipples=True),                                      # MASSRIS fig. 1, 6
-    "hatched": Style(hatching=True),                                       # principal directions, cross-hatched
+    "hatched": Style(hatching=True),                                       # dir1, cross-hatched diagonally
     "flocked": Style(hatching=True, cross_hatching=False, weights="flock", flock_size=4,
                      shade_upper=0.65),                                     # Smarticles fig. 4 (sketching)
     "silhouette-shading": Style(chains=True, chain_step=2),                # Smarticles fig. 3 left

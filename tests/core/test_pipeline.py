@@ -12,8 +12,7 @@ from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.projection import project
 from blobtree_ink.strokes import style as ST
 from blobtree_ink.strokes.visibility import Sight, visible
-from helpers import same_strokes
-from helpers import job_for
+from helpers import job_for, same_strokes
 
 BALL = {"format": "blobtree-1", "root": {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.0}}
 
