@@ -31,7 +31,9 @@ NARROWED = 0.9          # ... each narrowing its bracket below this fraction of 
 SHORTEST = 1.0 / 16     # a failed step is retried halved down to this fraction of the full step
 FEW = 48                # tracing tasks up to which a silhouette step tries all its halvings in one batch
                         # (a batch that small costs what a call costs, whatever its size)
-CLOSE = 0.75            # a trace is back at its seed within this many full steps of it
+CLOSE = 0.75            # a trace is back at its seed within this many full steps of it,
+AWAY = 2.0              # ... once it has been this many times as far from it (a trace crawling on halved
+                        # steps near its seed has not come round)
 
 _V = ((3,), float)
 
@@ -58,7 +60,7 @@ class Traces:
             kind=((), np.int64), agents=((2,), np.int64), serial=((), np.int64), id=((), np.int64),
             p=_V, t=_V, ref=_V, last_n=_V, start=_V, start_t=_V, start_ref=_V, start_n=_V,
             h=((), float), base=((), float), fwd=((), bool), paired=((), bool),
-            nf=((), np.int64), nb=((), np.int64), fwd_last=_V,
+            nf=((), np.int64), nb=((), np.int64), fwd_last=_V, reach=((), float),
             pins=pins, team_a=_V, team_b=_V, start_pins=pins, start_team_a=_V, start_team_b=_V,
             has_sides=((), bool), side_x=_V, side_dirs=((2, 3), float), side_facing=((2,), float),
             start_has_sides=((), bool), start_side_x=_V, start_side_dirs=((2, 3), float),
@@ -129,7 +131,7 @@ class Traces:
             m, kind=kinds, agents=np.array([self.pool.take(1) + [-1] for _ in range(m)]), serial=serial,
             id=KEPT - (first + j), p=P, t=T, ref=zeros, last_n=n, start=other, start_t=T, start_ref=zeros,
             start_n=n, h=base, base=base, fwd=fwd, paired=np.ones(m, bool), nf=np.where(fwd, length, 0), nb=0,
-            fwd_last=P, pins=pins, team_a=P, team_b=P, start_pins=pins, start_team_a=P, start_team_b=P,
+            fwd_last=P, reach=np.full(m, np.inf), pins=pins, team_a=P, team_b=P, start_pins=pins, start_team_a=P, start_team_b=P,
             has_sides=np.zeros(m, bool), side_x=zeros, side_dirs=np.zeros((m, 2, 3)),
             side_facing=np.zeros((m, 2)), start_has_sides=np.zeros(m, bool), start_side_x=zeros,
             start_side_dirs=np.zeros((m, 2, 3)), start_side_facing=np.zeros((m, 2)))
@@ -192,7 +194,7 @@ class Traces:
             len(i), kind=kinds[i], agents=np.array(agents), serial=serial, id=np.array(tids), p=X[i],
             t=np.where(fwd[:, None], T[i], -T[i]), ref=ref[i], last_n=n[i], start=X[i], start_t=T[i],
             start_ref=ref[i], start_n=n[i], h=base[i], base=base[i], fwd=fwd, paired=np.array(paired_),
-            nf=fwd.astype(np.int64), nb=0, fwd_last=X[i], pins=pins[i], team_a=A[i], team_b=B[i],
+            nf=fwd.astype(np.int64), nb=0, fwd_last=X[i], reach=0.0, pins=pins[i], team_a=A[i], team_b=B[i],
             start_pins=pins[i], start_team_a=A[i], start_team_b=B[i], has_sides=has_sides[i], side_x=side_x[i],
             side_dirs=side_dirs[i], side_facing=side_facing[i], start_has_sides=has_sides[i],
             start_side_x=side_x[i], start_side_dirs=side_dirs[i], start_side_facing=side_facing[i])
@@ -232,7 +234,8 @@ class Traces:
         # how far each new point is from its outline's other end: the seed, or the forward
         # half's last point for a backward half
         other = np.where((tk.fwd | (tk.nf == 0))[:, None], tk.start, tk.fwd_last)
-        at_other = np.linalg.norm(X - other, axis=1) < CLOSE * base
+        apart = np.linalg.norm(X - other, axis=1)
+        at_other = (apart < CLOSE * base) & (tk.reach > AWAY * CLOSE * base)
         arcs = np.where(tk.fwd, tk.nf, -(tk.nb + 1))
         # which outline each new point meets (and, for a forward half ending without its
         # pair, whether one passes its seed), in loop order: see traced.Loops
@@ -278,6 +281,7 @@ class Traces:
                 fate[i] = TURN             # trace the other way from the seed
         loop.commit()
         kept = np.flatnonzero(fate == KEEP)
+        tk.reach[kept] = np.maximum(tk.reach[kept], apart[kept])
         self._keep_points(kept, X, n, Tn, refn, st)
         self._turn(np.flatnonzero(fate == TURN))
         tk.h[fate == RETRY] *= 0.5
@@ -359,6 +363,7 @@ class Traces:
         """Forward tasks ``rows`` without a pair go back to their seed to trace backwards."""
         tk = self.table
         tk.fwd[rows] = False
+        tk.reach[rows] = 0.0
         tk.p[rows], tk.t[rows], tk.ref[rows] = tk.start[rows], -tk.start_t[rows], tk.start_ref[rows]
         tk.last_n[rows] = tk.start_n[rows]
         tk.h[rows] = tk.base[rows]

@@ -113,3 +113,38 @@ def test_a_crease_beside_halving_silhouettes_is_retried_as_alone(load_example, m
     s.request("OUTLINES")
     s.run()
     assert seen and all(np.array_equal(got, own) for got, own in seen) and any(own.any() for _, own in seen)
+
+
+def a_trace_near_its_seed(load_example, reach):
+    """A heart session's only silhouette task, tracing forwards with four points or more,
+    its seed moved just behind it (its next, short step lands within CLOSE steps of it), and
+    ``reach``: how far from the seed it has been."""
+    s = Session(load_example("heart"), View(eye=np.array([4.0, -6.0, 3.0])), Settings(resolution=20))
+    s.request("OUTLINES")
+    while not s.done:
+        tk = s.traces.table
+        rows = np.flatnonzero((tk.kind[:len(tk)] == SIL) & tk.fwd[:len(tk)] & (tk.nf[:len(tk)] >= 4))
+        if len(rows):
+            r = int(rows[0])
+            only(s, r)
+            tk = s.traces.table
+            tk.h[0] = 0.25 * tk.base[0]                    # a step that holds (as it did) ...
+            tk.start[0] = tk.p[0] - 0.1 * tk.base[0] * tk.t[0]     # ... lands within CLOSE steps of the seed
+            tk.reach[0] = reach * tk.base[0]
+            return s
+        s.step()
+    raise AssertionError("no such task in the whole session")
+
+
+def test_a_trace_back_near_its_seed_closes_only_once_it_has_been_away(load_example):
+    """A trace that comes back within CLOSE steps of its seed closes its outline only
+    once it has been AWAY times as far from it: one crawling on halved steps near its
+    seed (at a tight turn) goes on."""
+    s = a_trace_near_its_seed(load_example, reach=0.3)
+    serial = int(s.traces.table.serial[0])
+    s.traces.step()
+    assert len(s.traces.table) == 1 and int(s.traces.table.serial[0]) == serial      # still tracing
+    s = a_trace_near_its_seed(load_example, reach=TS.AWAY * TS.CLOSE * 1.01)
+    done = len(s.traces.done)
+    s.traces.step()
+    assert len(s.traces.table) == 0 and len(s.traces.done) == done + 1 and s.traces.done[-1].closed
