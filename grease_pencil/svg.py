@@ -1,8 +1,10 @@
 """The command line's SVG: the drawing's strokes projected through the scene camera
 onto a page of the rendered picture's size, so that the SVG and the PNG show one
-drawing, line on line. Each stroke is a path whose width is its points' mean width on
-the page and whose opacity is their mean opacity (round caps and joins, no fill), each
-stipple a filled circle, grouped by layer (``<g id="layer.NAME">``) in the drawing's
+drawing, line on line. Each stroke is a path of its segments' mean width on the page
+and mean opacity (round caps and joins, no fill), or, where its width or opacity
+changes along it (a hatching stroke tapers with the shade), a path for each stretch
+of like width and opacity (:func:`stretches`), the paths meeting end to end; each
+stipple a filled circle; grouped by layer (``<g id="layer.NAME">``) in the drawing's
 order. Widths stay stroke widths, so they can be changed in any SVG editor."""
 from dataclasses import dataclass
 from xml.sax.saxutils import quoteattr
@@ -10,6 +12,8 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 MIN_WIDTH = 0.05            # px: the thinnest line or dot written (a narrower one would not show)
+LIKE_WIDTH = 0.15           # a stretch of a stroke keeps its segments' widths within this share of its first's
+LIKE_OPACITY = 0.1          # ... and their opacities within this much of its first's
 
 
 @dataclass(frozen=True)
@@ -36,6 +40,20 @@ class Lens:
         return page, 1.0 / (2 * half[0] * depth)
 
 
+def stretches(widths, opacities):
+    """A polyline's stretches of like width and opacity, from its points' (n >= 2):
+    (first point, last point, mean width, mean opacity) of each, consecutive stretches
+    sharing their end point."""
+    w = 0.5 * (widths[1:] + widths[:-1])                   # each segment's
+    a = 0.5 * (opacities[1:] + opacities[:-1])
+    out, start = [], 0
+    for k in range(1, len(w) + 1):
+        if k == len(w) or abs(w[k] - w[start]) > LIKE_WIDTH * w[start] or abs(a[k] - a[start]) > LIKE_OPACITY:
+            out.append((start, k, float(np.mean(w[start:k])), float(np.mean(a[start:k]))))
+            start = k
+    return out
+
+
 def srgb(c):
     """A linear colour channel (0..1) in sRGB."""
     c = min(max(float(c), 0.0), 1.0)
@@ -59,15 +77,21 @@ def write(path, layers, lens, size, colour):
         for s in strokes:
             page, per_unit = lens.project(s.points)
             xy = page * (width, height)
-            w = max(float(np.mean(2 * np.asarray(s.radius, float) * per_unit)) * width, MIN_WIDTH)
-            alpha = float(np.clip(np.mean(s.opacity), 0.0, 1.0))
+            widths = 2 * np.broadcast_to(np.asarray(s.radius, float), len(xy)) * per_unit * width
+            opacity = np.clip(np.broadcast_to(np.asarray(s.opacity, float), len(xy)), 0.0, 1.0)
             if s.dots or len(xy) == 1:
-                for x, y in xy:
-                    out.append(f'<circle cx="{x:.3f}" cy="{y:.3f}" r="{w / 2:.3f}" fill={quoteattr(ink)} '
-                               f'stroke="none" fill-opacity="{alpha:.3f}"/>')
+                for (x, y), w, alpha in zip(xy, widths, opacity):
+                    out.append(f'<circle cx="{x:.3f}" cy="{y:.3f}" r="{max(w, MIN_WIDTH) / 2:.3f}" '
+                               f'fill={quoteattr(ink)} stroke="none" fill-opacity="{alpha:.3f}"/>')
                 continue
-            d = "M" + "L".join(f"{x:.3f},{y:.3f}" for x, y in xy) + ("Z" if s.cyclic else "")
-            out.append(f'<path d="{d}" stroke-width="{w:.3f}" stroke-opacity="{alpha:.3f}"/>')
+            if s.cyclic:                                   # the closing segment, as the others
+                xy, widths, opacity = (np.concatenate([v, v[:1]]) for v in (xy, widths, opacity))
+            parts = stretches(widths, opacity)
+            for a, b, w, alpha in parts:
+                d = "M" + "L".join(f"{x:.3f},{y:.3f}" for x, y in xy[a:b + 1])
+                if s.cyclic and len(parts) == 1:
+                    d = "M" + "L".join(f"{x:.3f},{y:.3f}" for x, y in xy[:-1]) + "Z"
+                out.append(f'<path d="{d}" stroke-width="{max(w, MIN_WIDTH):.3f}" stroke-opacity="{alpha:.3f}"/>')
         out.append("</g>")
     out.append("</svg>")
     with open(path, "w", encoding="utf-8") as fh:

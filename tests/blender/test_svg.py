@@ -52,3 +52,31 @@ def test_the_page_holds_a_path_per_stroke_and_a_circle_per_stipple(svg, Stroke, 
     assert float(p.get("stroke-opacity")) == pytest.approx(0.75)
     (c,) = list(groups["layer.Stipples"])
     assert (float(c.get("cx")), float(c.get("cy")), float(c.get("r"))) == pytest.approx((200.0, 100.0, 2.0))
+
+
+def test_a_tapered_stroke_is_a_path_per_stretch_of_like_width(svg, Stroke, tmp_path):
+    """A hatching stroke that thins along its length is written as paths end to end,
+    each of its stretch's width (within LIKE_WIDTH) and opacity: the page keeps the
+    taper; a stroke of one width stays one path."""
+    lens = svg.Lens(np.zeros(3), AXES, centre=(0.0, 0.0), half=(0.5, 0.5))
+    x = np.linspace(-1.0, 1.0, 21)
+    P = np.stack([x, np.zeros_like(x), np.full_like(x, -4.0)], axis=1)
+    tapered = Stroke(P, np.linspace(0.02, 0.004, 21), np.linspace(1.0, 0.4, 21))
+    even = Stroke(P + [0, 0.5, 0], np.full(21, 0.01), np.ones(21))
+    path = tmp_path / "page.svg"
+    svg.write(path, {"Hatching": [tapered, even]}, lens, (400, 400), (0.0, 0.0, 0.0))
+    paths = list(next(g for g in ET.parse(path).getroot() if g.get("id") == "layer.Hatching"))
+    pts = [[tuple(map(float, q.split(","))) for q in p.get("d")[1:].split("L")] for p in paths]
+    widths = [float(p.get("stroke-width")) for p in paths]
+    alphas = [float(p.get("stroke-opacity")) for p in paths]
+    *taper, last = paths
+    assert len(taper) >= 5 and pts[-1] == [(x, 150.0) for x in np.linspace(100.0, 300.0, 21)] and widths[-1] == 2.0
+    assert all(a[-1] == b[0] for a, b in zip(pts[:-2], pts[1:-1]))                    # end to end
+    assert [q for a in pts[:-1] for q in a[:-1]] + [pts[-2][-1]] == [(x, 200.0) for x in np.linspace(100.0, 300.0, 21)]
+    assert np.all(np.diff(widths[:-1]) < 0) and np.all(np.diff(alphas[:-1]) < 0)      # thinner and lighter along it
+    assert widths[0] == pytest.approx(2 * 0.0195 / 4 * 400, rel=0.08) and widths[-2] < 0.5 * widths[0]
+    r = np.linspace(0.02, 0.004, 21)
+    seg = 0.5 * (r[1:] + r[:-1])                                   # each segment's radius
+    for a in pts[:-1]:                                             # a stretch's segments are alike
+        i, j = round((a[0][0] - 100) / 10), round((a[-1][0] - 100) / 10)
+        assert np.abs(seg[i:j] - seg[i]).max() <= svg.LIKE_WIDTH * seg[i] + 1e-12
