@@ -15,6 +15,7 @@ from ..model.vectors import cross
 from . import layers as L
 from . import smarticles as sm
 from .data import LAYER_OF_KIND, Stroke, StrokeSet
+from .doubled import undoubled
 from .visibility import piece, run_points, split_visible_many
 
 LAYER_SWITCHES = ("outlines", "hatching", "stipples", "chains", "short")
@@ -24,6 +25,7 @@ WEIGHT_NAMES = ("flow", "wander", "separation", "alignment", "cohesion", "contai
 SPECK = 4.0           # trace steps: a visible piece of a suggestive contour or apparent ridge shorter than this
 SPECKLED = ("suggestive", "ridges")   # is not drawn (the kinds, found where a curvature peaks or vanishes)
 DOT = 4.0             # line widths: a whole outline (any kind) that fits in a box this wide draws as a dot
+DRAWN_TWICE = ("Silhouette", "Crease")   # the layers whose strokes running side by side are one line (strokes.doubled)
 
 
 @dataclass
@@ -171,7 +173,10 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0, sight=N
     piece of a suggestive contour or an apparent ridge shorter than SPECK of its trace
     steps is not drawn: a speck on the paper, not a line (a silhouette's is: the end of
     a real contour). Nor is a whole outline whose box's diagonal is under DOT line
-    widths (a tiny contour loop round a bump, or a scrap of one): drawn, it is a dot."""
+    widths (a tiny contour loop round a bump, or a scrap of one): drawn, it is a dot.
+    Silhouettes and creases that run side by side on the paper, a line width or so
+    apart, are one line drawn twice: the shorter leaves its stretch along the longer
+    out (strokes.doubled)."""
     out = StrokeSet()
     polys, norms = [], []
     outlines = [o for o in outlines if not is_dot(o.points, radius)]
@@ -200,4 +205,9 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0, sight=N
             else:
                 r, _ = L.tone(L.lighting(seg_n, light), 1.0, radius, 0.5 * contrast)
             out.add(LAYER_OF_KIND[o.kind], Stroke(seg, r, np.ones(len(seg)), cyclic=whole))
+    drawn = [(name, s) for name in DRAWN_TWICE for s in out.layers[name]]
+    for name in DRAWN_TWICE:
+        out.layers[name] = []
+    for (name, _), left in zip(drawn, undoubled([s for _, s in drawn], eye)):
+        out.layers[name] += left
     return out
