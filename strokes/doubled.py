@@ -66,15 +66,18 @@ def doubled_points(strokes, eye):
 
 def undoubled(strokes, eye):
     """Each stroke with its stretches of at least MIN_RUN points that run along a stroke
-    that outranks it (:func:`doubled_points`) left out: per stroke, the list of what is
-    left of it (itself, or its pieces of two points or more)."""
+    that outranks it (:func:`doubled_points`) left out (a stroke wholly along one goes,
+    however short): per stroke, the list of what is left of it (itself, or its pieces
+    of two points or more)."""
     out = []
     for s, hit in zip(strokes, doubled_points(strokes, eye)):
         drop = _runs_at_least(~_runs_at_least(~hit, BRIDGE + 1, s.cyclic, inner=True), MIN_RUN, s.cyclic)
         # what is kept reaches a point into each stretch left out: it meets the other line
-        near = np.convolve(~drop, np.ones(3, bool), "same") if not s.cyclic else \
-            ~drop | np.roll(~drop, 1) | np.roll(~drop, -1)
-        drop &= ~near.astype(bool)
+        keep = ~drop
+        near = keep | np.roll(keep, 1) | np.roll(keep, -1)
+        if not s.cyclic:                                   # (no wrapping round an open line's ends)
+            near[0], near[-1] = keep[0] | keep[min(1, len(keep) - 1)], keep[-1] | keep[max(len(keep) - 2, 0)]
+        drop &= ~near
         out.append([])
         if not drop.any():
             out[-1].append(s)
@@ -95,8 +98,9 @@ def undoubled(strokes, eye):
 
 
 def _runs_at_least(hit, n, cyclic, inner=False):
-    """The True runs of ``hit`` at least ``n`` long (round the end too, when cyclic);
-    with ``inner``, also every run that touches an end of an open line."""
+    """The True runs of ``hit`` at least ``n`` long (round the end too, when cyclic), or
+    all of it when all is True; with ``inner``, also every run that touches an end of an
+    open line."""
     if hit.all() or not hit.any():
         return hit.copy()
     shift = int(np.argmin(hit)) if cyclic else 0

@@ -61,3 +61,18 @@ def test_a_stub_between_two_doubled_stretches_goes_with_them():
     hit = DB.doubled_points([long_, wobbly], EYE)[1]
     assert not hit[31:33].any() and hit[:29].all() and hit[35:].all()     # (the bump's ends turn away too)
     assert DB.undoubled([long_, wobbly], EYE)[1] == []              # no stub left on the line
+
+
+def test_a_scrap_wholly_along_a_line_goes_and_a_short_touch_stays():
+    """A stroke of two points or more lying wholly along a longer one is that line drawn
+    again, whatever its length; a stroke touching a line for fewer than MIN_RUN points
+    keeps them."""
+    long_ = line(-1.0, 1.0)
+    for n in (2, 3, 4):
+        assert DB.undoubled([long_, line(-0.2, 0.2, z=0.01, n=n)], EYE)[1] == []
+    z = np.linspace(0.3, 0.0, 31)
+    x = np.where(z > 0.02, 0.0, 0.1 * np.arange(31) - 2.9)            # comes down to the line, then along it
+    touch = Stroke(np.stack([x, np.zeros(31), z], axis=1), np.full(31, R), np.ones(31))
+    hit = DB.doubled_points([long_, touch], EYE)[1]
+    assert 0 < hit.sum() < DB.MIN_RUN
+    assert DB.undoubled([long_, touch], EYE)[1] == [touch]
