@@ -64,6 +64,10 @@ class Illustration:
         if PLACE_STROKES in self.job.kinds and not self.job.stroke_switches():
             self.warnings.append("the style draws no strokes: turn on Hatching, Stipples, Chain Strokes or "
                                  "Short Strokes, or pick a preset")
+        st = self.style
+        if "hatching" in self.job.stroke_switches() and st.cross_hatching and st.cross_field == st.hatch_field:
+            self.warnings.append("the cross-hatching runs along the hatching (its Cross Field is the Flow Field): "
+                                 "pick another Cross Field")
         self.owned = self.job.owned_layers()
         self.stages = self._plan()
         self.at = 0                    # the stage being worked on

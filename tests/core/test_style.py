@@ -290,3 +290,15 @@ def test_a_loop_seen_in_part_is_one_stroke_across_its_start():
     assert np.all(np.linalg.norm(np.diff(stroke.points, axis=0), axis=1) < 0.1)   # no jump across the start
     ends = stroke.points[[0, -1]]
     assert np.all(ends[:, 2] < 0.0) and abs(ends[0, 2] - ends[1, 2]) < 0.01       # both ends at the front ball's edge
+
+
+def test_cross_hatching_along_the_hatchings_own_field_is_said():
+    """A style whose cross-hatching follows the hatching's own flow field draws one
+    direction twice: the run says so; the presets do not."""
+    model = M.from_dict({"format": "blobtree-1", "root": {"type": "point", "center": [0, 0, 0], "radius": 1.0}})
+    req = (PL.Request("PLACE_STROKES"),)
+    same = PL.Illustration(PL.Job(model, style=ST.style("hatched", hatch_field="diagonal"), requests=req))
+    assert any("Cross Field is the Flow Field" in w for w in same.warnings)
+    for name in ST.STYLES:
+        assert not any("Cross Field" in w for w in PL.Illustration(PL.Job(model, style=ST.style(name),
+                                                                          requests=req)).warnings), name
