@@ -87,11 +87,13 @@ def write(path, layers, lens, size, colour):
             if s.cyclic:                                   # the closing segment, as the others
                 xy, widths, opacity = (np.concatenate([v, v[:1]]) for v in (xy, widths, opacity))
             parts = stretches(widths, opacity)
+            # stretches meet end to end: flat ends, or see-through round ends would overlap in beads
+            cap = '' if len(parts) == 1 else ' stroke-linecap="butt"'
             for a, b, w, alpha in parts:
                 d = "M" + "L".join(f"{x:.3f},{y:.3f}" for x, y in xy[a:b + 1])
                 if s.cyclic and len(parts) == 1:
                     d = "M" + "L".join(f"{x:.3f},{y:.3f}" for x, y in xy[:-1]) + "Z"
-                out.append(f'<path d="{d}" stroke-width="{max(w, MIN_WIDTH):.3f}" stroke-opacity="{alpha:.3f}"/>')
+                out.append(f'<path d="{d}" stroke-width="{max(w, MIN_WIDTH):.3f}" stroke-opacity="{alpha:.3f}"{cap}/>')
         out.append("</g>")
     out.append("</svg>")
     with open(path, "w", encoding="utf-8") as fh:

@@ -65,7 +65,8 @@ class Illustration:
             self.warnings.append("the style draws no strokes: turn on Hatching, Stipples, Chain Strokes or "
                                  "Short Strokes, or pick a preset")
         st = self.style
-        if "hatching" in self.job.stroke_switches() and st.cross_hatching and st.cross_field == st.hatch_field:
+        if "hatching" in self.job.stroke_switches() and st.cross_hatching and st.cross_field == st.hatch_field \
+                and st.hatch_field != "straight":                 # (straight: each stroke its own way)
             self.warnings.append("the cross-hatching runs along the hatching (its Cross Field is the Flow Field): "
                                  "pick another Cross Field")
         self.owned = self.job.owned_layers()

@@ -29,6 +29,10 @@ def doubled_points(strokes, eye):
     one an open one, else a longer one, else one before it) closer than DOUBLED line
     widths on the paper, running alike."""
     eye = np.asarray(eye, float)
+    if any(len(s.points) == 0 for s in strokes):          # (an empty stroke runs along nothing)
+        some = [k for k, s in enumerate(strokes) if len(s.points)]
+        got = dict(zip(some, doubled_points([strokes[k] for k in some], eye)))
+        return [got.get(k, np.zeros(0, bool)) for k in range(len(strokes))]
     seen = [_seen(s.points, eye) for s in strokes]
     U = np.concatenate([u for u, _ in seen]) if strokes else np.zeros((0, 3))
     sizes = np.array([len(s.points) for s in strokes], np.int64)
@@ -41,7 +45,8 @@ def doubled_points(strokes, eye):
         return out
     seg = np.linalg.norm(np.diff(U, axis=0), axis=1)
     seg[np.cumsum(sizes)[:-1] - 1] = 0.0                 # (no segment from one stroke to the next)
-    i, j = pairs_within(U, U, float(reach.max() + seg.max()))
+    # (a rare long segment, a bridge across a gap, does not widen every point's search)
+    i, j = pairs_within(U, U, float(reach.max() + np.percentile(seg, 99)))
     closed = np.array([s.cyclic for s in strokes], bool)
     rank = (sizes + closed * (sizes.max() + 1))[owner]
     longer = (rank[j] > rank[i]) | ((rank[j] == rank[i]) & (owner[j] < owner[i]))
@@ -54,12 +59,18 @@ def doubled_points(strokes, eye):
     T = U[nxt] - U[prv]
     T -= np.einsum("ij,ij->i", T, U)[:, None] * U
     T /= np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
+    # the segments at each point: a closed stroke's last point joins its first
+    last = first[owner] + sizes[owner] - 1
+    ring = np.array([s.cyclic for s in strokes], bool)[owner]
+    at = np.arange(len(U))
+    nxt_seg = np.where(ring & (at == last), first[owner], nxt)
+    prv_seg = np.where(ring & (at == first[owner]), last, prv)
     hit = np.zeros(len(U), bool)
-    for a, b in ((prv[j], j), (j, nxt[j])):               # the segments of the longer stroke at j
+    for a, b in ((prv_seg[j], j), (j, nxt_seg[j])):       # the segments of the outranking stroke at j
         d = U[b] - U[a]
         t = np.clip(np.einsum("ij,ij->i", U[i] - U[a], d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300), 0, 1)
         gap = np.linalg.norm(U[a] + t[:, None] * d - U[i], axis=1)
-        alike = np.abs(np.einsum("ij,ij->i", T[i], T[j])) >= PARALLEL
+        alike = np.abs(np.einsum("ij,ij->i", T[i], d)) >= PARALLEL * np.linalg.norm(d, axis=1)   # (the segment's way)
         np.logical_or.at(hit, i[(gap <= reach[i]) & alike & (a != b)], True)
     return [hit[f:f + n] for f, n in zip(first, sizes)]
 
@@ -71,6 +82,9 @@ def undoubled(strokes, eye):
     of two points or more)."""
     out = []
     for s, hit in zip(strokes, doubled_points(strokes, eye)):
+        if len(hit) == 0:                                  # an empty stroke draws nothing
+            out.append([])
+            continue
         drop = _runs_at_least(~_runs_at_least(~hit, BRIDGE + 1, s.cyclic, inner=True), MIN_RUN, s.cyclic)
         # what is kept reaches a point into each stretch left out: it meets the other line
         keep = ~drop

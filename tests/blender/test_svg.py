@@ -70,6 +70,7 @@ def test_a_tapered_stroke_is_a_path_per_stretch_of_like_width(svg, Stroke, tmp_p
     widths = [float(p.get("stroke-width")) for p in paths]
     alphas = [float(p.get("stroke-opacity")) for p in paths]
     *taper, last = paths
+    assert all(p.get("stroke-linecap") == "butt" for p in taper) and last.get("stroke-linecap") is None
     assert len(taper) >= 5 and pts[-1] == [(x, 150.0) for x in np.linspace(100.0, 300.0, 21)] and widths[-1] == 2.0
     assert all(a[-1] == b[0] for a, b in zip(pts[:-2], pts[1:-1]))                    # end to end
     assert [q for a in pts[:-1] for q in a[:-1]] + [pts[-2][-1]] == [(x, 200.0) for x in np.linspace(100.0, 300.0, 21)]

@@ -76,3 +76,17 @@ def test_a_scrap_wholly_along_a_line_goes_and_a_short_touch_stays():
     hit = DB.doubled_points([long_, touch], EYE)[1]
     assert 0 < hit.sum() < DB.MIN_RUN
     assert DB.undoubled([long_, touch], EYE)[1] == [touch]
+
+
+def test_a_loops_closing_segment_counts_and_an_empty_stroke_is_no_trouble():
+    n = 8
+    th = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    loop = Stroke(np.stack([np.cos(th), np.zeros(n), np.sin(th)], axis=1), np.full(n, R), np.ones(n), cyclic=True)
+    a, b = loop.points[-1], loop.points[0]                     # the segment from the last point to the first
+    t = np.linspace(0.2, 0.8, 7)[:, None]
+    along = Stroke(a + t * (b - a) + [0.0, 0.0, 0.005], np.full(7, R), np.ones(7))
+    assert DB.doubled_points([loop, along], EYE)[1].all()
+    empty = Stroke(np.zeros((0, 3)), np.zeros(0), np.zeros(0))
+    hits = DB.doubled_points([loop, empty, along], EYE)
+    assert len(hits[1]) == 0 and hits[2].all()
+    assert DB.undoubled([loop, empty, along], EYE) == [[loop], [], []]

@@ -299,6 +299,9 @@ def test_cross_hatching_along_the_hatchings_own_field_is_said():
     req = (PL.Request("PLACE_STROKES"),)
     same = PL.Illustration(PL.Job(model, style=ST.style("hatched", hatch_field="diagonal"), requests=req))
     assert any("Cross Field is the Flow Field" in w for w in same.warnings)
+    straight = PL.Illustration(PL.Job(model, style=ST.style("hatched", hatch_field="straight", cross_field="straight"),
+                                      requests=req))
+    assert not any("Cross Field" in w for w in straight.warnings)          # each stroke keeps its own way
     for name in ST.STYLES:
         assert not any("Cross Field" in w for w in PL.Illustration(PL.Job(model, style=ST.style(name),
                                                                           requests=req)).warnings), name
