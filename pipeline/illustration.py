@@ -58,6 +58,7 @@ class Illustration:
         self._live = None              # ... and while it runs (the fragments traced so far)
         self.line_radius = None
         self.canvas = None             # what the layers are drawn with (pipeline.layers.Canvas)
+        self.hiders = None             # the other models that hide its lines (pipeline.hiding.hiders)
         self.layers = {}               # layer name -> strokes finished
         self.outline_set = None        # the visible outlines (a StrokeSet), once that stage ran
         self.warnings = []
@@ -180,6 +181,7 @@ class Illustration:
         self.canvas = LY.Canvas(self.ev, self.eye, self.light, self.line_radius, stroke_unit(self.ev),
                                 settled=prev is not None and prev.ev is self.ev,
                                 sight=LY.sight(self.ev, j.occluders, prev.occluders if prev is not None else ()))
+        self.hiders = HD.hiders(self.ev, self.eye, self.canvas.sight)      # what the result records of them
         self.session = Session(self.ev, View(eye=self.eye), j.settings,
                                previous=prev.session if prev is not None else None, remember=self.remember)
         vertices = self.session.snapshot(stitch=False).vertices
@@ -355,7 +357,7 @@ class Illustration:
                       done=self.finished and not self.stopping, stopped=self.stopping, region=self._region(),
                       eye=self.eye, centre=self.centre, model=self.model_key,
                       made=None if self.model_key is None else j.making(self.model_key),
-                      hiders=None if self.canvas is None else HD.hiders(self.ev, self.eye, self.canvas.sight))
+                      hiders=self.hiders)
 
     def _owned_now(self):
         """The layers the result replaces now: those of the stages begun (a stopped run
