@@ -1,6 +1,8 @@
 """Small helpers shared by core tests."""
 import numpy as np
 
+BALL = {"format": "blobtree-1", "root": {"type": "point", "center": [0.0, 0.0, 0.0], "radius": 1.0}}     # a point primitive at the origin
+
 
 def near_surface_points(ev, n, seed=0, band=0.35):
     """Random points inside the support bounds whose field is within +-band of iso."""
