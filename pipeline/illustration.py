@@ -258,7 +258,8 @@ class Illustration:
         if not self.finished or self.stopping or self.ev is None:
             return None
         traced = "sampling" in self.completed and self.session is not None
-        return Continuation(self.ev, self.session.continuation() if traced else None, LY.hiders(self.canvas.sight))
+        return Continuation(self.ev, self.session.continuation() if traced else None,
+                            LY.occluder_evaluators(self.canvas.sight))
 
     def _stroke_layer(self, layer, parts, draw, marks=None, **kw):
         """One part of a stroke layer per step (the parts listed at the layer's first

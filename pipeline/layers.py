@@ -69,7 +69,7 @@ def sight(ev, occluders, known=()):
     return Sight(ev, tuple((_compiled(m, known), M) for m, M in occluders))
 
 
-def hiders(sight):
+def occluder_evaluators(sight):
     """The evaluators of the other models of a :func:`sight` (none without one)."""
     return () if sight is None else tuple(ev for ev, _ in sight.others)
 
