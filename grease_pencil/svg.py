@@ -11,6 +11,8 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..pipeline.framing import image_plane
+
 MIN_WIDTH = 0.05            # px: the thinnest line or dot written (a narrower one would not show)
 LIKE_WIDTH = 0.15           # a stretch of a stroke keeps its segments' widths within this share of its first's
 LIKE_OPACITY = 0.1          # ... and their opacities within this much of its first's
@@ -30,11 +32,11 @@ class Lens:
     def project(self, P):
         """Points (n, 3) on a page one unit wide and high (x right, y down, 0..1 in the
         frame), and how many page widths a scene unit across the view at each makes."""
-        rel = (np.asarray(P, float).reshape(-1, 3) - np.asarray(self.eye, float)) @ np.asarray(self.axes, float)
-        depth = np.ones(len(rel)) if self.ortho else -rel[:, 2]
-        if not (depth > 0).all():
-            raise ValueError("the drawing reaches behind the camera: the page cannot show it")
-        uv = rel[:, :2] / depth[:, None] - np.asarray(self.centre, float)
+        try:
+            uv, depth = image_plane(self.axes, self.eye, P, self.ortho)
+        except ValueError:
+            raise ValueError("the drawing reaches behind the camera: the page cannot show it") from None
+        uv = uv - np.asarray(self.centre, float)
         half = np.asarray(self.half, float)
         page = np.stack([0.5 + 0.5 * uv[:, 0] / half[0], 0.5 - 0.5 * uv[:, 1] / half[1]], axis=1)
         return page, 1.0 / (2 * half[0] * depth)

@@ -65,6 +65,18 @@ def three_quarter_eye(centre, radius, azimuth=35.0, elevation=25.0, lens=LENS, s
     return np.asarray(centre, float) + dist * d
 
 
+def image_plane(axes, eye, points, ortho=False):
+    """Points as a camera at ``eye`` (its ``axes``: the columns right, up, backwards)
+    sees them: their places on the image plane one unit ahead (an orthographic camera's
+    at any depth), on its right and up, and their depths (1 for an orthographic one).
+    Raises ValueError for a point not in front of a perspective camera."""
+    rel = (np.asarray(points, float).reshape(-1, 3) - np.asarray(eye, float)) @ np.asarray(axes, float)
+    depth = np.ones(len(rel)) if ortho else -rel[:, 2]
+    if not (depth > 0).all():
+        raise ValueError("a point lies behind the camera")
+    return rel[:, :2] / depth[:, None], depth
+
+
 def crop(axes, eye, points, aspect=1.0, margin=MARGIN, least=0.0):
     """The crop of a camera at ``eye`` (its ``axes``: the columns right, up, backwards)
     that holds ``points`` with ``margin`` about them, the same view cut closer: the
@@ -72,11 +84,12 @@ def crop(axes, eye, points, aspect=1.0, margin=MARGIN, least=0.0):
     unit of height), never under ``least`` (a drawing of a dot or two is not blown up
     to fill the frame), and the shift of the frame's centre in units of that side
     (Blender's lens shift), (tan_half, shift_x, shift_y)."""
-    rel = (np.asarray(points, float).reshape(-1, 3) - np.asarray(eye, float)) @ np.asarray(axes, float)
-    depth = -rel[:, 2]
-    if not len(rel) or not (depth > 0).all():
+    if not len(np.asarray(points).reshape(-1, 3)):
         raise ValueError("a crop frames points in front of the camera, and at least one")
-    uv = rel[:, :2] / depth[:, None]                          # on the image plane one unit ahead
+    try:
+        uv, _ = image_plane(axes, eye, points)
+    except ValueError:
+        raise ValueError("a crop frames points in front of the camera, and at least one") from None
     lo, hi = uv.min(0), uv.max(0)
     centre, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
     wide = max(half[0], half[1] * aspect) if aspect >= 1 else max(half[1], half[0] / aspect)

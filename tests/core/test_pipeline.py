@@ -241,6 +241,22 @@ def test_a_crop_cuts_the_same_view_closer_about_the_points():
         FR.crop(axes, np.zeros(3), pts * np.array([1, 1, -1]))
 
 
+def test_the_image_plane_is_one_unit_ahead_or_at_any_depth():
+    """framing.image_plane, the one projection of the crop and the SVG page: a
+    perspective camera's points divided by their depth, an orthographic one's as they
+    are; a point behind a perspective camera is an error."""
+    from blobtree_ink.pipeline import framing as FR
+    axes = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])   # right +y, up +z, backwards +x
+    eye = np.array([5.0, 0.0, 0.0])
+    pts = np.array([[0.0, 1.0, 2.0], [-5.0, -3.0, 0.5]])                  # 5 and 10 ahead
+    uv, depth = FR.image_plane(axes, eye, pts)
+    assert np.allclose(depth, [5.0, 10.0]) and np.allclose(uv, [[0.2, 0.4], [-0.3, 0.05]])
+    uv, depth = FR.image_plane(axes, eye, pts, ortho=True)
+    assert np.allclose(depth, 1.0) and np.allclose(uv, [[1.0, 2.0], [-3.0, 0.5]])
+    with pytest.raises(ValueError, match="behind the camera"):
+        FR.image_plane(axes, eye, [[6.0, 0.0, 0.0]])
+
+
 def _project(rel, t, offset):
     """Points about a centre (camera axes) seen from a camera t back on the line through
     the centre and the frame's centre (``offset``, one unit ahead): their image one unit
