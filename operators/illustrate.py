@@ -25,6 +25,8 @@ import traceback
 from dataclasses import replace
 
 import bpy
+import numpy as np
+from mathutils import Vector
 
 from .. import pipeline as PL
 from ..blobtree_nodes import changes, preview
@@ -117,7 +119,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             off = jobs.off_camera(context.scene, tree)
             self.notes += [off] if off else []
         else:
-            eye = jobs.viewport_eye(context, framing()[1])
+            centre, radius = framing()
+            scale = max(abs(v) for v in self.placement.to_scale())     # the model's radius in the scene
+            eye = jobs.viewport_eye(context, np.array(self.placement @ Vector(centre), float), scale * radius)
             if eye is None:
                 raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
                                   "from the 3D viewport, or switch From Camera on")

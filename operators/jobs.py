@@ -105,10 +105,12 @@ def preview_points(tree):
 ORTHO_DISTANCE = 100.0      # an orthographic view's eye: this many model radii back along its direction
 
 
-def viewport_eye(context, radius):
+def viewport_eye(context, centre, radius):
     """The 3D viewport's eye, or None outside a 3D viewport. An orthographic view is
-    drawn from an eye far back along its direction (ORTHO_DISTANCE model radii: its
-    silhouettes are those of parallel rays to within a hundredth)."""
+    drawn from an eye far back along its direction from the model's ``centre`` (``centre``
+    and ``radius`` in the scene's coordinates; ORTHO_DISTANCE model radii back: its
+    silhouettes are those of parallel rays to within a hundredth), so that panning or
+    zooming it leaves the eye where it is."""
     rv3d = getattr(context, "region_data", None)
     if rv3d is None or not hasattr(rv3d, "view_matrix"):
         return None
@@ -116,8 +118,7 @@ def viewport_eye(context, radius):
     if rv3d.is_perspective:
         return np.array(inv.translation, float)
     back = np.array(inv.to_3x3() @ Vector((0.0, 0.0, 1.0)), float)       # the view looks along -z
-    centre = np.array(rv3d.view_location, float)
-    return centre + ORTHO_DISTANCE * radius * back / np.linalg.norm(back)
+    return np.asarray(centre, float) + ORTHO_DISTANCE * radius * back / np.linalg.norm(back)
 
 
 def scene_light(scene, depsgraph=None):

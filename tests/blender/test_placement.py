@@ -217,3 +217,25 @@ def test_another_model_in_front_hides_the_lines_behind_it(example):
     solids, broken = jobs.occluders(bpy.context.scene, back)
     assert solids == () and broken == [front.name]
     assert jobs.hidden_by_note(broken) == f"'{front.name}' hides no lines: its tree is broken"
+
+
+def test_an_orthographic_viewport_sees_from_its_direction_wherever_it_is_panned(ext):
+    """jobs.viewport_eye: a perspective viewport's eye is where it stands; an
+    orthographic one's lies ORTHO_DISTANCE radii back from the model's centre along the
+    view, so panning it (the view's own place) does not make it another viewpoint."""
+    from types import SimpleNamespace
+    from mathutils import Euler, Matrix
+    jobs = ext.operators.jobs
+    turn = Euler((0.6, 0.0, 0.8)).to_matrix().to_4x4()          # the view's own axes in the scene
+
+    def viewport(at, perspective):
+        view_to_scene = Matrix.Translation(at) @ turn
+        return SimpleNamespace(region_data=SimpleNamespace(view_matrix=view_to_scene.inverted(),
+                                                           is_perspective=perspective))
+    centre, radius = np.array([1.0, 2.0, 3.0]), 0.5
+    back = np.array(turn.to_3x3() @ Vector((0.0, 0.0, 1.0)))
+    eyes = [jobs.viewport_eye(viewport(at, False), centre, radius) for at in [(0, 0, 0), (4, -2, 7)]]
+    np.testing.assert_allclose(eyes[0], eyes[1], atol=1e-5)
+    np.testing.assert_allclose(eyes[0], centre + jobs.ORTHO_DISTANCE * radius * back, atol=1e-4)
+    np.testing.assert_allclose(jobs.viewport_eye(viewport((4, -2, 7), True), centre, radius), [4, -2, 7], atol=1e-5)
+    assert jobs.viewport_eye(SimpleNamespace(), centre, radius) is None        # no 3D viewport
