@@ -55,6 +55,7 @@ class BlobTreeNodeTree(bpy.types.NodeTree):
     bl_idname = TREE
     bl_label = "BlobTree"
     bl_icon = "META_BALL"
+    bl_use_group_interface = False      # a model has no sockets of its own, nor groups: no Group Sockets panel
 
     iso: bpy.props.FloatProperty(name="Iso Value", default=0.5, soft_min=0.01, soft_max=2.0,
                                  description="The surface is where the field equals this value",

@@ -294,3 +294,20 @@ def test_the_add_menu_is_searchable_and_lists_every_node_type():
     assert sorted(listed) == sorted(all_idnames()) and len(listed) == 15
     import nodeitems_utils
     assert not nodeitems_utils.has_node_categories(blobtree)          # no second, legacy Add menu
+
+
+def test_the_group_tab_shows_no_sockets_colour_or_width_of_a_group():
+    """A model has no sockets of its own and is no node group: Blender's Group tab shows
+    its name and description only (no Group Sockets panel, colour tag or node width),
+    while a shader node group keeps them."""
+    panel = bpy.types.NODE_PT_node_tree_properties
+
+    def props(tree):
+        rec = Layout()
+        panel.draw(SimpleNamespace(layout=rec), SimpleNamespace(space_data=SimpleNamespace(edit_tree=tree)))
+        return [i["prop"] for i in rec.of("prop")]
+    tree = new_tree()
+    assert tree.bl_use_group_interface is False
+    assert props(tree) == ["name", "description"]
+    shader = bpy.data.node_groups.new("G", "ShaderNodeTree")
+    assert shader.bl_use_group_interface and "color_tag" in props(shader)
