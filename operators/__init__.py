@@ -2,7 +2,7 @@
 import bpy
 
 from . import (activate_tree, apply_preset, bake, clear_frames, clear_layer, export_json, frame_camera, illustrate,
-               import_json, menus, panels, rebuild_preview, region_overlay, render_frames, toggle_layer)
+               import_json, menus, panels, rebuild_preview, region_overlay, render_frames, toggle_layer, undo_guard)
 
 classes = (*import_json.classes, *export_json.classes, *rebuild_preview.classes, *illustrate.classes,
            *apply_preset.classes, *toggle_layer.classes, *clear_layer.classes, *activate_tree.classes, *bake.classes,
@@ -18,9 +18,11 @@ def register():
     region_overlay.register()
     menus.register()
     render_frames.register()
+    undo_guard.register()
 
 
 def unregister():
+    undo_guard.unregister()
     render_frames.unregister()
     menus.unregister()
     region_overlay.unregister()

@@ -20,7 +20,7 @@ from ..blobtree_nodes.animation import DriverError
 from ..blobtree_nodes.compile import TreeError
 from ..blobtree_nodes.settings import bake_range
 from . import frames as FR
-from . import jobs
+from . import jobs, undo_guard
 from .common import context_tree
 
 TICK = 0.05
@@ -83,7 +83,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         self.done.append(frame)
         last_bake["frames"] = list(self.done)
 
-    def _finish(self, state, error=None):
+    def _finish(self, state, error=None, undone=False):
         self.scene.frame_set(self.frame_was)
         ink = bpy.data.objects.get(self.ink) if self.done else None
         if ink is not None:               # the frames after it show no ink, not the last one held
@@ -93,6 +93,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             self.report({"ERROR"}, f"{error}; frames {self._span()} are baked" if self.done else str(error))
         else:
             done = f"Bake {state}: frames {self._span()}" if self.done else f"Bake {state}: no frame"
+            done += " (by undo, keeping them as one step: undo again to take them back)" if undone and self.done else ""
             self.report({"WARNING"} if self.note else {"INFO"}, f"{done} ({self.note})" if self.note else done)
         return {"FINISHED"}               # what was baked is kept, as one undo step
 
@@ -141,6 +142,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             if getattr(self, "began", False):            # its first frame failed: no modal run
                 last_bake["state"] = "failed"
             return {"CANCELLED"}
+        self.undo_keys, self.undos = undo_guard.undo_keys(context), undo_guard.undos()
         wm = context.window_manager
         self.timer = wm.event_timer_add(TICK, window=context.window)
         wm.progress_begin(0, 100)
@@ -153,9 +155,14 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         self.runner = PL.Runner(PL.Illustration(job, previous=self.previous, remember=True)).start()
 
     def modal(self, context, event):
-        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+        if undo_guard.undos() != self.undos:  # undone from a menu or a script: the frames baked are gone
+            self._drop(context, "undone")
+            self.report({"WARNING"}, "an undo while the bake ran took back the frames it baked: nothing baked")
+            return {"CANCELLED"}
+        undo = undo_guard.undo_key(event, self.undo_keys)
+        if undo or event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
             self.runner.cancel()              # the frame under way is not kept
-            return self._end(context, "stopped")
+            return self._end(context, "stopped", undone=undo)
         if event.type != "TIMER" or not self.runner.finished:
             if event.type == "TIMER":
                 self._progress(context)
@@ -185,7 +192,7 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
             f"BlobTree Ink bake: frame {self.frame} ({len(self.done) + 1} of {len(self.frames)}), "
             f"{100 * share:.0f} %  Esc: stop and keep the frames baked")
 
-    def _end(self, context, state, error=None):
+    def _end(self, context, state, error=None, undone=False):
         try:
             self.runner.join()
         except PL.RunnerError as e:
@@ -194,11 +201,15 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         wm.event_timer_remove(self.timer)
         wm.progress_end()
         context.workspace.status_text_set(None)
-        return self._finish(state, error)
+        return self._finish(state, error, undone)
 
     def cancel(self, context):
         """The window closed or a file loaded: the frame under way is dropped (its worker
         touches no Blender data; the UI waits for it only briefly)."""
+        self._drop(context, "cancelled")
+
+    def _drop(self, context, state):
+        """The run ends touching no Blender data (it may be gone), the frame under way dropped."""
         self.runner.cancel()
         try:
             self.runner.join(2.0)
@@ -207,7 +218,9 @@ class BLOBTREE_INK_OT_bake(bpy.types.Operator):
         finally:
             context.window_manager.event_timer_remove(self.timer)
             context.window_manager.progress_end()
-            last_bake["state"] = "cancelled"
+            if context.workspace is not None:
+                context.workspace.status_text_set(None)
+            last_bake["state"] = state
 
 
 classes = (BLOBTREE_INK_OT_bake,)

@@ -37,7 +37,7 @@ from ..grease_pencil.writer import ink_object, read_layer, stroke_count, write, 
 from ..strokes.data import LAYER_OF_KIND, STROKE_LAYERS
 from ..model import Evaluator
 from . import frames as FR
-from . import jobs, region_overlay
+from . import jobs, region_overlay, undo_guard
 from .common import context_tree, ink_name
 
 REQUESTS = [("OUTLINES", "Trace Feature Outlines",
@@ -212,6 +212,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         except START_ERRORS as e:
             return self._failed(e, "WARNING")
         self.runner = PL.Runner(self.illustration).start()
+        self.undo_keys, self.undos = undo_guard.undo_keys(context), undo_guard.undos()
         self.shown = None
         self.stopping = None
         self.last_tick = time.monotonic()
@@ -232,10 +233,18 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return self._end(context, "failed")
 
     def _tick(self, context, event):
-        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS" and self.stopping is None:
+        if undo_guard.undos() != self.undos:              # undone from a menu or a script: the data is gone
+            return self._undone(context)
+        undo = undo_guard.undo_key(event, self.undo_keys)
+        if (undo or event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS") and self.stopping is None:
             self.stopping = "stopped"
             self.stopped_at = last_run.get("fraction", 0.0)      # the share done when Esc was pressed
             self.runner.stop()             # the worker draws the visible outlines so far, then ends
+            if undo:                       # said now, and last when the run ends (the status bar's)
+                self.report({"INFO"}, UNDO_STOPS)
+                self.notes.append(UNDO_STOPS)
+            return {"RUNNING_MODAL"}
+        if undo:                           # no undo under a run (see undo_guard)
             return {"RUNNING_MODAL"}
         if event.type != "TIMER":
             return {"PASS_THROUGH"}
@@ -313,6 +322,17 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         worker is asked to end after its current step (it touches no Blender data, so
         the UI waits for it only briefly) and the timer goes; nothing is drawn (the data
         may be gone)."""
+        self._drop(context, "cancelled")
+
+    def _undone(self, context):
+        """An undo or redo while the run went on restored data from before it (undo_guard):
+        the run ends as a cancelled one, writing nothing into what is there now."""
+        self._drop(context, "undone")
+        self.report({"WARNING"}, "an undo while the illustration ran took back what it was drawing on: "
+                                 "nothing drawn")
+        return {"CANCELLED"}
+
+    def _drop(self, context, state):
         self.runner.cancel()
         try:
             self.runner.join(CANCEL_WAIT)
@@ -324,7 +344,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             if context.workspace is not None:
                 context.workspace.status_text_set(None)
             region_overlay.show(self.tree_key, [])
-            last_run["state"] = "cancelled"
+            last_run["state"] = state
 
     def _report_done(self, state, warnings=(), hint=""):
         """The run's summary, then its warnings: the status bar shows the last report, so
@@ -338,6 +358,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self.report({"INFO"}, f"Illustration {state}: {n} stroke{'' if n == 1 else 's'}{traced}{hint}")
         for w in warnings:
             self.report({"WARNING"}, w)
+
+
+UNDO_STOPS = "Undo stopped the illustration, keeping what it drew as one step: undo again to take it back"
 
 
 def camera_hint(context, from_camera):

@@ -20,6 +20,9 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     assert "error" not in facts, facts.get("error")
     assert facts["held_frames"] == [1, 2] and facts["held_state"] == "running"
     assert facts["stopped_state"] == "stopped" and facts["stopped_frames"] == [1, 2]
+    # Ctrl+Z while a bake runs stops it (not the step before it: the model stays)
+    assert facts["undo_key_state"] == "stopped" and facts["undo_key_frames"] == [1, 2]
+    assert facts["tree_after_undo_key"] is True and facts["frames_after_undoing_the_stopped_bake"] == [1, 2]
     assert facts["frame_after_stop"] == 1                                   # back where the artist was
     assert facts["full_state"] == "done" and facts["full_frames"] == [1, 2, 3, 4, 5, 6]
     assert facts["last_operator"] == "BLOBTREE_INK_OT_bake" and facts["last_range"] == [1, 6]

@@ -6,6 +6,7 @@ import re
 import shutil
 
 import numpy as np
+import pytest
 from conftest import REPO, artifact, blender, blender_env, darkest, read_png, run, run_ui_script
 
 
@@ -97,6 +98,14 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     # the sidebar's "Last run" tells the run it shows was taken back
     assert facts["changed_before_undo"] is False and facts["changed_after_undo"] is True
     assert facts["edited_state"] == "tree edited"                # editing the tree stops a run
+    # Ctrl+Z while a run goes on stops it, keeping what it drew as one step (not undoing the
+    # step before it, which would take the model away); Ctrl+Z again takes the run back
+    assert facts["undo_key_state"] == "stopped" and facts["tree_after_undo_key"] is True
+    assert facts["length_after_undo_key"] > 0 and facts["length_after_undo_key"] != facts["length_before_undo_key"]
+    assert facts["tree_after_second_undo"] is True
+    assert facts["length_after_second_undo"] == pytest.approx(facts["length_before_undo_key"])
+    # an undo from a script or the Edit menu while a run goes on ends it, writing nothing
+    assert facts["script_undo_state"] == "undone"
     for name in ("illustrate_running.png", "illustrate_stopped.png"):
         png = artifact(name)
         shutil.copy(os.path.join(out, name), png)

@@ -3,7 +3,8 @@ with an event loop), hold its worker after two system iterations (the runner's t
 hook: the run is mid-way whatever the machine's speed), check that another timer keeps
 ticking, take a screenshot, press Esc through xdotool, check the outlines found so far
 stay (their hidden lines removed), screenshot, then undo once and check the run is
-gone (the sidebar says the ink changed since the run); a second run is stopped by editing the tree."""
+gone (the sidebar says the ink changed since the run); a second run is stopped by editing the tree;
+a third by Ctrl+Z, and a fourth is undone from a script (undone_while_running)."""
 import os
 import sys
 import time
@@ -106,6 +107,7 @@ def run():
     hold.release()
     edited = dict(ill.last_run)
     record(edited_state=edited.get("state"))
+    yield from undone_while_running(win, view3d, region, ill, hold)
     record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
            strokes_while_running=n_running, stopped_state=stopped.get("state"),
            strokes_after_esc=n_after, length_while_running=len_running, length_after_esc=len_after,
@@ -114,6 +116,42 @@ def run():
            ticks=stopped.get("ticks"), other_timer_ticks=len(gaps) + 1,
            other_timer_median_gap=sorted(gaps)[len(gaps) // 2] if gaps else None,
            other_timer_max_gap=max(gaps) if gaps else None)
+
+
+def undone_while_running(win, view3d, region, ill, hold):
+    """A third run, Ctrl+Z pressed while it runs: the key stops it as Esc does, keeping
+    what it drew as one undo step, and Ctrl+Z again takes that back (the model stays).
+    A fourth run undone from a script (as from the Edit menu): it ends writing nothing."""
+    bpy.ops.ed.undo_push(message="edited")
+    before = length_of("heart Ink")
+
+    def started():
+        hold.arm(3)
+        with bpy.context.temp_override(window=win, area=view3d, region=region):
+            bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", request="OUTLINES")
+        while not hold.reached.is_set():
+            yield 0.1
+        yield 0.5
+
+    def ended():
+        for _ in range(100):
+            if ill.last_run.get("state") != "running":
+                break
+            yield 0.1
+    yield from started()
+    yield {"action": "mouse", "x": 600, "y": 450, "pause": 0.2}
+    yield {"action": "key", "keys": ["ctrl+z"], "pause": 0.5}
+    yield from ended()
+    record(undo_key_state=ill.last_run.get("state"), tree_after_undo_key="heart" in bpy.data.node_groups,
+           length_before_undo_key=before, length_after_undo_key=length_of("heart Ink"))
+    yield {"action": "key", "keys": ["ctrl+z"], "pause": 1.0}
+    record(tree_after_second_undo="heart" in bpy.data.node_groups, length_after_second_undo=length_of("heart Ink"))
+    yield from started()
+    with bpy.context.temp_override(window=win, area=view3d, region=region):
+        bpy.ops.ed.undo()
+    yield from ended()
+    hold.release()
+    record(script_undo_state=ill.last_run.get("state"))
 
 
 Steps(run())
