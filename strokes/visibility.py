@@ -4,13 +4,14 @@ A point is visible when the segment from it to the eye does not enter the solid
 (f >= iso). Segments are marched in one batch: each starts a small offset off the
 surface towards the eye, is clipped to the surface's box (blackboard.polygonise.
 surface_box: outside it the field stays below iso), and is sampled at a fixed fraction
-of the model's size. Strokes are split where visibility changes and the hidden parts
-dropped; each visible run ends where its line really goes behind the surface, found by
-bisecting the step between its last visible point and the next hidden one (so a line
-that passes behind another meets it, not a step short of it). A line's own grazing
-surface hides a point or two of it where the ray leaves the surface almost along it:
-such a short gap, hit within GRAZE marching steps of its start, between visible
-points of the same line, is not a gap (another solid hit first is).
+of the model's size (of another solid's own, where that is smaller). Strokes are split
+where visibility changes and the hidden parts dropped; each visible run ends where its
+line really goes behind the surface, found by bisecting the step between its last
+visible point and the next hidden one (so a line that passes behind another meets it,
+not a step short of it). A line's own grazing surface hides a point or two of it where
+the ray leaves the surface almost along it: such a short gap, hit within GRAZE
+marching steps of its start, between visible points of the same line, is not a gap
+(another solid hit first is).
 """
 from typing import NamedTuple
 
@@ -135,7 +136,10 @@ def hits_each(sight, P, eye, normals=None, step=None, offset=None):
     out = []
     for ev, M in sight.solids():
         S, E = (start, D) if M is None else (start @ M[:3, :3].T + M[:3, 3], D @ M[:3, :3].T)
-        out.append(_first_inside(ev, S, E, step / length) * length)
+        # another solid is sampled at its own size's step where that is finer (a thin one
+        # beside a big model is not stepped over), in the model's units
+        own = step if M is None else min(step, march_step(ev) / max(np.linalg.norm(M[:3, :3], 2), 1e-300))
+        out.append(_first_inside(ev, S, E, own / length) * length)
     return np.array(out)
 
 

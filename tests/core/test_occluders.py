@@ -10,7 +10,7 @@ from blobtree_ink import pipeline as PL
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.projection import project
 from blobtree_ink.strokes import style as ST
-from blobtree_ink.strokes.visibility import Sight, visible
+from blobtree_ink.strokes.visibility import Sight, march_step, visible
 from helpers import BALL, same_strokes
 
 
@@ -115,3 +115,27 @@ def test_a_drawing_records_which_other_models_stood_between_it_and_the_eye():
     assert not HD.between(eye, (c, r), (np.array([0.0, 3.0, 0.0]), 0.5))         # behind it
     assert not HD.between(eye, (c, r), (np.array([3.0, -3.0, 0.0]), 0.5))         # beside it
     assert HD.between(eye, (c, r), (eye + [0.0, 0.1, 0.0], 0.5))                 # round the eye
+
+
+def test_a_thin_occluder_before_a_big_model_is_not_stepped_over():
+    """Another solid is sampled at its own size's step where that is finer than the
+    model's: a thin rod a hundredth of a big model's size, standing before it, hides
+    every point of the model right behind it (the model's own step is wider than the
+    rod)."""
+    big = M.Evaluator(M.from_dict({"format": "blobtree-1", "root": {
+        "type": "segment", "a": [-50, 0, 0], "b": [50, 0, 0], "radius": 60.0}}))
+    rod = M.Evaluator(M.from_dict({"format": "blobtree-1", "root": {
+        "type": "segment", "a": [0, 0, -30], "b": [0, 0, 30], "radius": 0.25}}))
+    eye = np.array([0.0, -400.0, 0.0])
+    front = -float(project(big, np.array([[0.0, -10.0, 0.0]]), 30)[0][0, 1])          # the big model's front
+    half = float(project(rod, np.array([[0.1, 0.0, 0.0]]), 30)[0][0, 0])               # the rod's half width
+    assert march_step(big) > 2.5 * half                                                # it steps over the rod
+    rod_at = np.eye(4)
+    rod_at[:3, 3] = [0.0, 100.0, 0.0]          # the rod 100 units before the model: model p is rod p + (0, 100, 0)
+    # points of the model's front in the plane x = 0, which holds the eye and the rod's axis:
+    # every ray from them to the eye crosses the axis
+    z = np.linspace(-10.0, 10.0, 41)
+    P, _, _ = project(big, np.stack([np.zeros_like(z), np.full_like(z, -front), z], axis=1), 30)
+    assert np.abs(P[:, 0]).max() < 1e-9 and np.abs(P[:, 2]).max() < 20
+    assert not visible(Sight(big, ((rod, rod_at),)), P, eye).any()
+    assert visible(big, P, eye).all()                                                  # the model alone: all seen
