@@ -166,9 +166,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         last_run["strokes"] = result.strokes.count()
 
     def _clear_unfit(self):
-        """A look that ran to its end is one drawing: the layers it left that were drawn
-        for another viewpoint or model, or by another look, are cleared (said in the
-        report; Ctrl+Z brings them back)."""
+        """A look that ran to its end, or was stopped (Esc keeps what it drew), is one
+        drawing: the layers it left that were drawn for another viewpoint or model, or by
+        another look, are cleared (said in the report; Ctrl+Z brings them back)."""
         if self.unfit:
             obj = ink_object(self.obj_name)
             for name in self.unfit:
@@ -310,7 +310,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self._figures(result.progress)
             if state == "stopped":         # how far it had come when Esc was pressed
                 last_run["fraction"] = min(last_run["fraction"], self.stopped_at)
-            if state == "done":
+            if state in ("done", "stopped"):
                 self._clear_unfit()
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)

@@ -106,6 +106,9 @@ def test_real_ui_illustrate_runs_modally_stops_on_escape_and_undoes(user_dir, tm
     assert facts["length_after_second_undo"] == pytest.approx(facts["length_before_undo_key"])
     # an undo from a script or the Edit menu while a run goes on ends it, writing nothing
     assert facts["script_undo_state"] == "undone"
+    # a look stopped by Esc is one drawing: the other look's stipples are cleared
+    assert facts["stippled_state"] == "done" and facts["stipples_before_hatched"] > 100
+    assert facts["hatched_stopped_state"] == "stopped" and facts["stipples_after_stopped_hatched"] == 0
     for name in ("illustrate_running.png", "illustrate_stopped.png"):
         png = artifact(name)
         shutil.copy(os.path.join(out, name), png)

@@ -4,7 +4,8 @@ hook: the run is mid-way whatever the machine's speed), check that another timer
 ticking, take a screenshot, press Esc through xdotool, check the outlines found so far
 stay (their hidden lines removed), screenshot, then undo once and check the run is
 gone (the sidebar says the ink changed since the run); a second run is stopped by editing the tree;
-a third by Ctrl+Z, and a fourth is undone from a script (undone_while_running)."""
+a third by Ctrl+Z, and a fourth is undone from a script (undone_while_running); a look
+stopped by Esc clears the other look's strokes (look_stopped)."""
 import os
 import sys
 import time
@@ -108,6 +109,7 @@ def run():
     edited = dict(ill.last_run)
     record(edited_state=edited.get("state"))
     yield from undone_while_running(win, view3d, region, ill, hold)
+    yield from look_stopped(win, view3d, region, ill, hold)
     record(running_state=running.get("state"), running_iterations=running.get("iterations", 0),
            strokes_while_running=n_running, stopped_state=stopped.get("state"),
            strokes_after_esc=n_after, length_while_running=len_running, length_after_esc=len_after,
@@ -152,6 +154,36 @@ def undone_while_running(win, view3d, region, ill, hold):
     yield from ended()
     hold.release()
     record(script_undo_state=ill.last_run.get("state"))
+
+
+def look_stopped(win, view3d, region, ill, hold):
+    """A Stippled look, then a Hatched look stopped with Esc: a stopped look is one drawing
+    too, the stipples of the other look cleared (not left under the new one's lines)."""
+    def look(preset):
+        with bpy.context.temp_override(window=win, area=view3d, region=region):
+            bpy.ops.blobtree_ink.illustrate("INVOKE_DEFAULT", tree_name="heart", preset=preset)
+    look("STIPPLED")
+    for _ in range(600):
+        if ill.last_run.get("state") != "running":
+            break
+        yield 0.1
+
+    def stipples():
+        obj = bpy.data.objects.get("heart Ink")
+        layer = obj.data.layers.get("Stipples") if obj is not None else None
+        return len(layer.frames[0].drawing.strokes) if layer is not None and len(layer.frames) else 0
+    record(stippled_state=ill.last_run.get("state"), stipples_before_hatched=stipples())
+    hold.arm(3)
+    look("HATCHED")
+    while not hold.reached.is_set():
+        yield 0.1
+    yield {"action": "key", "keys": ["Escape"], "pause": 0.5}
+    for _ in range(100):
+        if ill.last_run.get("state") != "running":
+            break
+        yield 0.1
+    hold.release()
+    record(hatched_stopped_state=ill.last_run.get("state"), stipples_after_stopped_hatched=stipples())
 
 
 Steps(run())
