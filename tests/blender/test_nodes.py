@@ -213,8 +213,13 @@ def test_broken_trees_show_the_reason_on_the_node(ext):
     e = compile_error(ext, t)
     assert e.node == diff and "needs at least 2 linked inputs" in diff.error
     link(t, bite, diff)
-    # no output
+    # an iso value of 0: the Model Output node, which shows it, says so
     out = [n for n in t.nodes if n.bl_idname == "BlobTreeInkOutputNode"][0]
+    t.iso = 0.0
+    e = compile_error(ext, t)
+    assert e.node == out and errors(t) == {out.name: "Iso Value must be > 0, got 0"}
+    t.iso = 0.5
+    # no output
     t.nodes.remove(out)
     e = compile_error(ext, t)
     assert e.node is None and "has no Model Output node" in str(e)
