@@ -110,25 +110,44 @@ def strokes_at(layer, frame):
     return len(key.drawing.strokes) if key is not None else 0
 
 
-def end_hold(obj, frame):
-    """Grease Pencil holds a layer's drawing until the layer's next key: each layer that
-    shows strokes at ``frame`` and has no key on the next frame gets an empty drawing
-    there, so the frames after a bake's range, or a cleared range, show no ink instead
-    of a drawing held over a model that moved on (a render still draws them: an empty
-    drawing is no drawn frame). Returns the layers that got one."""
+def end_hold(obj, frame, until=None, layers=None):
+    """Grease Pencil holds a layer's drawing until the layer's next key: each layer (of
+    ``layers``, default all) that shows strokes at ``frame`` and has no key after it up
+    to ``until`` (default the next frame) gets an empty drawing at ``until``, so the
+    frames after a bake's range, or a cleared range, show no ink instead of a drawing
+    held over a model that moved on (a render still draws them: an empty drawing is no
+    drawn frame). Returns the layers that got one."""
+    until = frame + 1 if until is None else until
     ended = []
     for layer in obj.data.layers:
+        if layers is not None and layer.name not in layers:
+            continue
         shown = views.shown_frame(layer, frame)
         if shown is not None and len(shown.drawing.strokes) and \
-                all(f.frame_number != frame + 1 for f in layer.frames):
-            layer.frames.new(frame + 1)
+                all(not frame < f.frame_number <= until for f in layer.frames):
+            layer.frames.new(until)
             ended.append(layer.name)
     return ended
 
 
+def hold_to_next(obj, layers, frame):
+    """After ``layers`` were drawn on ``frame`` of an ink that has drawings on later frames
+    (a bake's): each that has no key of its own up to the ink's next key gets an empty
+    drawing there (:func:`end_hold`), so it does not show over the later frames' own
+    drawings. Returns the frames after ``frame`` that have a drawing of their own."""
+    later = sorted({f.frame_number for layer in obj.data.layers for f in layer.frames if f.frame_number > frame})
+    if later:
+        end_hold(obj, frame, later[0], layers)
+    return [f for f in drawn_frames_of(obj) if f > frame]
+
+
 def drawn_frames(tree):
     """The frames the tree's ink has a drawing of (a key on its outline layers)."""
-    obj = bpy.data.objects.get(ink_name(tree))
+    return drawn_frames_of(bpy.data.objects.get(ink_name(tree)))
+
+
+def drawn_frames_of(obj):
+    """The frames an ink object has a drawing of (a key with strokes on its outline layers)."""
     if obj is None or obj.type != "GREASEPENCIL":
         return set()
     return {f.frame_number for layer in obj.data.layers if layer.name in LAYER_OF_KIND.values()

@@ -176,6 +176,15 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             views.forget(obj, list(self.unfit), self.frame)
             self.notes.append(jobs.cleared_note(self.unfit))
 
+    def _hold(self, result):
+        """On an ink with drawings on later frames (a bake's), the layers written here end
+        where those begin (frames.hold_to_next); a look says those frames keep their own."""
+        obj = bpy.data.objects.get(self.obj_name)
+        later = FR.hold_to_next(obj, list(result.owned) + list(result.appended), self.frame) if obj else []
+        if later and self.preset != NO_PRESET:
+            self.notes.append(f"frames {FR.spans(later)} keep their own drawings: bake them again to draw them "
+                              "in this look")
+
     def _figures(self, progress):
         last_run.update(iterations=progress.iterations, outline_length=progress.outline_length,
                         fraction=progress.fraction, stage=progress.stage)
@@ -201,6 +210,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         self._figures(result.progress)
         self._write(result)
         self._clear_unfit()
+        self._hold(result)
         self._report_done("done", result.warnings + self.notes)
         return {"FINISHED"}
 
@@ -312,6 +322,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                 last_run["fraction"] = min(last_run["fraction"], self.stopped_at)
             if state in ("done", "stopped"):
                 self._clear_unfit()
+            self._hold(result)
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
         self._report_done(state, warnings + self.runner.notes + self.notes, camera_hint(context, self.from_camera))

@@ -334,3 +334,29 @@ def test_a_rendered_frame_compiles_each_tree_once_and_marks_only_its_own_errors(
     assert f"frame 4 of '{broken.name}' not illustrated" in said
     assert "must be > 0" in point.error and not any(n.error for t in trees[:2] for n in t.nodes
                                                     if hasattr(n, "error"))
+
+
+def test_a_look_on_a_baked_frame_does_not_show_over_the_frames_after_it(ext, example):
+    """A look drawn on one frame of a baked range draws that frame: the layers it adds
+    end where the next baked frame begins (Grease Pencil would hold them over the later
+    frames' own drawings), the later frames keep theirs, and the look says so."""
+    frames = mod(ext, "operators.frames")
+    tree, empty = moving_spheres(example)
+    sc = bpy.context.scene
+    assert bpy.ops.blobtree_ink.bake(tree_name="two_spheres", frame_start=1, frame_end=4) == {"FINISHED"}
+    before = {f: drawing("two_spheres", f) for f in (2, 3, 4)}
+    assert not any(d.get("Hatching") for d in before.values())          # the tree's look: outlines only
+    sc.frame_set(1)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="two_spheres", preset="HATCHED") == {"FINISHED"}
+    obj = bpy.data.objects["two_spheres Ink"]
+    hatching = obj.data.layers["Hatching"]
+    shown = {f: len(mod(ext, "grease_pencil.views").shown_frame(hatching, f).drawing.strokes) for f in (1, 2, 3, 4)}
+    assert shown[1] > 10 and shown[2] == shown[3] == shown[4] == 0
+    for f in (2, 3, 4):                                                  # the later frames' own drawings, untouched
+        now = drawing("two_spheres", f)
+        for layer in ("Silhouette", "Crease"):
+            got, had = now.get(layer), before[f].get(layer)
+            assert (got is None) == (had is None) and all(np.array_equal(a, b) for a, b in zip(got or [], had or []))
+    run = mod(ext, "operators.illustrate").last_run
+    assert any("frames 2-4 keep their own drawings" in w for w in run["warnings"]), run["warnings"]
+    assert frames.drawn_frames(tree) == {1, 2, 3, 4}
