@@ -46,12 +46,14 @@ def direction_to_model(matrix, d):
 
 def attach(ink, tree):
     """The ink object follows its model: a child of the preview object, drawn in the
-    model's coordinates."""
+    model's coordinates, its own move, turn and scale locked (its lines are the model's
+    where it stands: a click on the drawing selects the ink, and G then moves nothing)."""
     parent = tree.preview_object
     if ink.parent != parent:
         ink.parent = parent
     ink.matrix_parent_inverse = Matrix.Identity(4)
     ink.matrix_basis = Matrix.Identity(4)
+    ink.lock_location = ink.lock_rotation = ink.lock_scale = (True, True, True)
 
 
 def on_paper(context, tree):

@@ -3,6 +3,7 @@ active tree expanded (its requests, preset looks, settings, style, ink layers an
 animation: the bake range, Bake and Clear, the frames drawn), the other trees as one
 row each, and the latest run's figures."""
 import bpy
+import numpy as np
 
 from ..blackboard.board import FEATURE_KINDS
 from ..blobtree_nodes import preview, wrap
@@ -65,13 +66,17 @@ def _draw_errors(layout, context, tree):
 
 STALE = "The ink was drawn before the model changed: a Look draws it again"
 STALE_HIDDEN = "The models in front of this one moved or changed since the ink was drawn: a Look draws it again"
+STALE_VIEW = "The ink was drawn for another view (the camera or the model moved): a Look draws it again"
 
 
 def _draw_stale(layout, context, tree):
     """Say so when the ink shown on this frame was drawn for another model than the
     one the preview shows (an edit, a moved object the tree follows, another frame of
-    an animation), or when the other models that hide its lines have moved or changed
-    since (one that stood between the eye and the model, or one that has come between)."""
+    an animation), or, drawn from the camera, for a camera that saw the model otherwise
+    (the camera or the model moved since; a viewport's ink is drawn for the view it was
+    asked from, and the artist looks about), or when the other models that hide its
+    lines have moved or changed since (one that stood between the eye and the model, or
+    one that has come between)."""
     obj, key = bpy.data.objects.get(ink_name(tree)), preview.shown_model(tree)
     drawn = [n for n in LAYERS if n != SINGLE_LAYER]          # (the single strokes are the artist's own)
     if obj is None or obj.type != "GREASEPENCIL" or key is None:
@@ -79,6 +84,8 @@ def _draw_stale(layout, context, tree):
     frame, scene = context.scene.frame_current, context.scene
     if views.other_model(obj, drawn, frame, key):
         say = STALE
+    elif tree.ink.use_camera and _other_camera(obj, drawn, frame, scene, tree):
+        say = STALE_VIEW
     elif views.other_hiders(obj, drawn, frame, lambda eye: jobs.hiders_now(scene, tree, eye)):
         say = STALE_HIDDEN
     else:
@@ -87,6 +94,17 @@ def _draw_stale(layout, context, tree):
     col.alert = True
     for i, line in enumerate(wrap.lines(say, wrap.region_text_width(context, context.region.width), context)):
         col.label(text=line, icon="INFO" if i == 0 else "BLANK1")
+
+
+def _other_camera(obj, layers, frame, scene, tree):
+    """Whether a drawing of ``layers`` shown on ``frame`` was drawn for an eye that sees the
+    model (its preview's middle) otherwise than the scene camera does now."""
+    eye, shown = jobs.camera_eye(scene), tree.preview_object
+    if eye is None or shown is None:
+        return False
+    box = np.array([tuple(c) for c in shown.bound_box], float)
+    inverse = jobs.placement(tree).inverted_safe()
+    return bool(views.unfit(obj, layers, frame, np.array(jobs.to_model(inverse, eye)), box.mean(axis=0)))
 
 
 def _draw_tree(layout, context, tree):

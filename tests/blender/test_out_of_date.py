@@ -236,3 +236,42 @@ def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, e
     ev = __import__(f"{ext.__name__}.model", fromlist=["x"]).Evaluator(model)
     P = np.concatenate([np.array([p.position for p in s.points]) for s in ink("pear")["Silhouette"]])
     assert np.abs(ev.field(P) - ev.iso).max() < 1e-3
+
+
+def test_ink_drawn_from_the_camera_before_the_camera_or_the_model_moved_is_said(ext, example):
+    """Drawn from the scene camera, the ink holds for that camera where the model stood:
+    the sidebar says so once the camera or the model has moved (a look draws it again);
+    a move that sees the model alike, or ink drawn from a viewport, is not news."""
+    from types import SimpleNamespace
+
+    from aimed_camera import aimed_camera
+    from recording_layout import Layout
+    panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    tree = bpy.data.node_groups["sphere"]
+    tree.ink.grid_resolution = 10
+    cam = aimed_camera((0.0, -8.0, 0.0), (0.0, 0.0, 0.0))
+    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
+                              preferences=bpy.context.preferences)
+
+    def stale():
+        bpy.context.view_layer.update()
+        rec = Layout()
+        panels._draw_stale(rec, context, tree)
+        return " ".join(i["text"] for i in rec.of("label")).replace("  ", " ")
+    note = panels.STALE_VIEW.replace("  ", " ")
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
+    assert stale() == ""
+    cam.location = (3.0, -7.5, 1.0)                          # the camera moved round the model
+    assert stale() == note
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
+    assert stale() == ""
+    tree.preview_object.rotation_euler.z += 0.5               # the model turned
+    assert stale() == note
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", preset="HATCHED") == {"FINISHED"}
+    assert stale() == ""
+    tree.preview_object.location.z += 1e-4                    # a move that sees it alike
+    assert stale() == ""
+    tree.ink.use_camera = False                                # the ink is then the viewport's affair
+    cam.location = (-3.0, -7.5, 1.0)
+    assert stale() == ""

@@ -32,6 +32,8 @@ def test_moving_the_preview_moves_the_model_and_its_ink(example):
     assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
     ink = bpy.data.objects["sphere Ink"]
     assert ink.parent == tree.preview_object
+    # the ink cannot be moved off its model (a click on the drawing selects it: G moves nothing)
+    assert all(all(lock) for lock in (ink.lock_location, ink.lock_rotation, ink.lock_scale))
     strokes = ink.data.layers["Silhouette"].frames[0].drawing.strokes
     assert len(strokes) == 1
     world = np.array([ink.matrix_world @ Vector(p.position) for p in strokes[0].points])
