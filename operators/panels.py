@@ -232,7 +232,9 @@ def _draw_last_run(layout, tree):
     if state in ("done", "stopped") and changed_since(last_run):
         col.label(text="Undone or edited since", icon="INFO")
         return
-    col.label(text=f"Strokes: {last_run.get('strokes', 0)}")
+    left = last_run.get("left") or {}
+    elsewhere = left.get("frame", bpy.context.scene.frame_current) != bpy.context.scene.frame_current
+    col.label(text=f"Strokes: {last_run.get('strokes', 0)}" + (f" (drawn on frame {left['frame']})" if elsewhere else ""))
     if last_run.get("iterations"):
         col.label(text=f"Agents' iterations: {last_run['iterations']}")
 

@@ -170,7 +170,12 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     run = Layout()
     panels._draw_last_run(run, tree)
     shown = [i["text"] for i in run.of("label")]
-    assert shown[0] == "Last run: done" and shown[1].startswith("Strokes: ")
+    assert shown[0] == "Last run: done" and shown[1].startswith("Strokes: ") and "frame" not in shown[1]
+    bpy.context.scene.frame_set(7)                             # on another frame: the count says where it was drawn
+    run = Layout()
+    panels._draw_last_run(run, tree)
+    assert [i["text"] for i in run.of("label")][1].endswith(" (drawn on frame 1)")
+    bpy.context.scene.frame_set(1)
     with pytest.raises(RuntimeError, match="no ink layer 'Nope' on 'pear Ink'"):
         bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Nope")
 
