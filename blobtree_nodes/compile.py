@@ -207,8 +207,7 @@ def compile_document(tree, mark=True, depsgraph=None):
             found = _node_for_error(msg, paths)
             if found is None:
                 if msg.startswith("document.iso"):         # the Model Output node shows the tree's Iso Value
-                    out = output_nodes(tree)
-                    raise TreeError(out[0] if out else None, "Iso Value " + msg.split(":", 1)[1].strip()) from None
+                    raise TreeError(output_node(tree), "Iso Value " + msg.split(":", 1)[1].strip()) from None
                 raise TreeError(None, msg) from None
             path, node = found
             detail = msg[len(path):].lstrip(".")

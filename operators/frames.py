@@ -15,7 +15,8 @@ from ..blobtree_nodes.compile import TreeError, compile_tree, in_no_scene, show_
 from ..blobtree_nodes.settings import style_of
 from ..grease_pencil import views
 from ..grease_pencil.writer import ink_object, write
-from ..strokes.data import LAYER_OF_KIND
+from ..pipeline.job import SINGLE_LAYER
+from ..strokes.data import LAYER_OF_KIND, LAYERS
 from . import jobs
 from .common import ink_name
 
@@ -110,6 +111,9 @@ def strokes_at(layer, frame):
     return len(key.drawing.strokes) if key is not None else 0
 
 
+DRAWN = tuple(n for n in LAYERS if n != SINGLE_LAYER)     # the layers the extension draws (not the artist)
+
+
 def end_hold(obj, frame, until=None, layers=None):
     """Grease Pencil holds a layer's drawing until the layer's next key: each layer (of
     ``layers``, default all) that shows strokes at ``frame`` and has no key after it up
@@ -132,10 +136,13 @@ def end_hold(obj, frame, until=None, layers=None):
 
 def hold_to_next(obj, layers, frame):
     """After ``layers`` were drawn on ``frame`` of an ink that has drawings on later frames
-    (a bake's): each that has no key of its own up to the ink's next key gets an empty
-    drawing there (:func:`end_hold`), so it does not show over the later frames' own
-    drawings. Returns the frames after ``frame`` that have a drawing of their own."""
-    later = sorted({f.frame_number for layer in obj.data.layers for f in layer.frames if f.frame_number > frame})
+    (a bake's): each that has no key of its own up to the ink's next key of a drawn
+    layer gets an empty drawing there (:func:`end_hold`), so it does not show over the
+    later frames' own drawings (the artist's single strokes, and layers not the
+    extension's, do not count). Returns the frames after ``frame`` that have a drawing
+    of their own."""
+    later = sorted({f.frame_number for layer in obj.data.layers if layer.name in DRAWN
+                    for f in layer.frames if f.frame_number > frame})
     if later:
         end_hold(obj, frame, later[0], layers)
     return [f for f in drawn_frames_of(obj) if f > frame]

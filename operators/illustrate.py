@@ -180,7 +180,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         """On an ink with drawings on later frames (a bake's), the layers written here end
         where those begin (frames.hold_to_next); a look says those frames keep their own."""
         obj = bpy.data.objects.get(self.obj_name)
-        later = FR.hold_to_next(obj, list(result.owned) + list(result.appended), self.frame) if obj else []
+        later = FR.hold_to_next(obj, list(result.owned), self.frame) if obj else []
         if later and self.preset != NO_PRESET:
             self.notes.append(f"frames {FR.spans(later)} keep their own drawings: bake them again to draw them "
                               "in this look")
@@ -223,6 +223,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return self._failed(e, "WARNING")
         self.runner = PL.Runner(self.illustration).start()
         self.undo_keys, self.undos = undo_guard.undo_keys(context), undo_guard.undos()
+        self.undo_stopped = self.ended = False
         self.shown = None
         self.stopping = None
         self.last_tick = time.monotonic()
@@ -240,7 +241,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         except Exception as e:             # a tick that fails ends the run, said and printed
             traceback.print_exc()
             self.report({"ERROR"}, f"the illustration stopped: {e!r}")
-            return self._end(context, "failed")
+            return {"FINISHED"} if self.ended else self._end(context, "failed")     # (ending it failed: once)
 
     def _tick(self, context, event):
         if undo_guard.undos() != self.undos:              # undone from a menu or a script: the data is gone
@@ -252,7 +253,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self.runner.stop()             # the worker draws the visible outlines so far, then ends
             if undo:                       # said now, and last when the run ends (the status bar's)
                 self.report({"INFO"}, UNDO_STOPS)
-                self.notes.append(UNDO_STOPS)
+                self.undo_stopped = True
             return {"RUNNING_MODAL"}
         if undo:                           # no undo under a run (see undo_guard)
             return {"RUNNING_MODAL"}
@@ -300,6 +301,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             f"of {pr.stages}{agents})  Esc: stop and keep")
 
     def _end(self, context, state):
+        self.ended = True
         t0 = time.perf_counter()
         try:
             self.runner.join()
@@ -325,7 +327,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self._hold(result)
             warnings = result.warnings
         last_run["finish_ms"] = 1000 * (time.perf_counter() - t0)
-        self._report_done(state, warnings + self.runner.notes + self.notes, camera_hint(context, self.from_camera))
+        stopped_by_undo = [UNDO_STOPS] if self.undo_stopped else []
+        self._report_done(state, warnings + self.runner.notes + self.notes + stopped_by_undo,
+                          camera_hint(context, self.from_camera))
         return {"FINISHED"}                # keep what was made, as one undo step
 
     def cancel(self, context):

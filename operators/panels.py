@@ -66,7 +66,7 @@ def _draw_errors(layout, context, tree):
 
 STALE = "The ink was drawn before the model changed: a Look draws it again"
 STALE_HIDDEN = "The models in front of this one moved or changed since the ink was drawn: a Look draws it again"
-STALE_VIEW = "The ink was drawn for another view (the camera or the model moved): a Look draws it again"
+STALE_VIEW = "The ink was drawn for another view than the camera's: a Look draws it again"
 
 
 def _draw_stale(layout, context, tree):
@@ -218,7 +218,7 @@ def _draw_layers(layout, tree):
         op.object_name, op.layer = obj.name, layer.name
 
 
-def _draw_last_run(layout, tree):
+def _draw_last_run(layout, context, tree):
     if last_run.get("tree") != tree.name:          # (the latest run was another tree's)
         return
     col = layout.column(align=True)
@@ -232,9 +232,9 @@ def _draw_last_run(layout, tree):
     if state in ("done", "stopped") and changed_since(last_run):
         col.label(text="Undone or edited since", icon="INFO")
         return
-    left = last_run.get("left") or {}
-    elsewhere = left.get("frame", bpy.context.scene.frame_current) != bpy.context.scene.frame_current
-    col.label(text=f"Strokes: {last_run.get('strokes', 0)}" + (f" (drawn on frame {left['frame']})" if elsewhere else ""))
+    frame = context.scene.frame_current
+    drawn_on = (last_run.get("left") or {}).get("frame", frame)
+    col.label(text=f"Strokes: {last_run.get('strokes', 0)}" + (f" (drawn on frame {drawn_on})" if drawn_on != frame else ""))
     if last_run.get("iterations"):
         col.label(text=f"Agents' iterations: {last_run['iterations']}")
 
@@ -266,7 +266,7 @@ class VIEW3D_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
         self.layout.label(text=tree.name, icon="META_BALL")
         _draw_tree(self.layout, context, tree)
         _draw_others(self.layout, tree)
-        _draw_last_run(self.layout, tree)
+        _draw_last_run(self.layout, context, tree)
 
 
 class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
@@ -281,7 +281,7 @@ class NODE_PT_blobtree_ink(_Sidebar, bpy.types.Panel):
     def draw(self, context):
         focus(context.space_data.node_tree)
         _draw_tree(self.layout, context, context.space_data.node_tree)
-        _draw_last_run(self.layout, context.space_data.node_tree)
+        _draw_last_run(self.layout, context, context.space_data.node_tree)
 
 
 def _sub_panel(space, parent, ident, label, draw, closed=False):

@@ -360,3 +360,23 @@ def test_a_look_on_a_baked_frame_does_not_show_over_the_frames_after_it(ext, exa
     run = mod(ext, "operators.illustrate").last_run
     assert any("frames 2-4 keep their own drawings" in w for w in run["warnings"]), run["warnings"]
     assert frames.drawn_frames(tree) == {1, 2, 3, 4}
+
+
+def test_a_look_holds_over_frames_with_only_the_artists_strokes(ext, example):
+    """Only the extension's drawn layers end a look's hold: the artist's single strokes,
+    or a layer of their own, keyed on a later frame, leave the look shown there."""
+    writer, views = mod(ext, "grease_pencil.writer"), mod(ext, "grease_pencil.views")
+    Stroke = mod(ext, "strokes.data").Stroke
+    tree, empty = moving_spheres(example)
+    bpy.context.scene.frame_set(1)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="two_spheres", request="OUTLINES") == {"FINISHED"}
+    obj = bpy.data.objects["two_spheres Ink"]
+    mark = [Stroke(np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0]]), np.full(2, 0.01), np.ones(2))]
+    writer.write_layer(obj, "Single Strokes", mark, 20)
+    obj.data.layers.new("Notes")                                   # a layer of the artist's own
+    writer.write_layer(obj, "Notes", mark, 30)
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="two_spheres", preset="HATCHED") == {"FINISHED"}
+    for layer in ("Silhouette", "Hatching"):
+        assert [f.frame_number for f in obj.data.layers[layer].frames] == [1]
+        assert len(views.shown_frame(obj.data.layers[layer], 35).drawing.strokes) > 0
+    assert not any("keep their own drawings" in w for w in mod(ext, "operators.illustrate").last_run["warnings"])

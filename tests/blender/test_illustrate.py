@@ -156,7 +156,7 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     enabled = {k for k, i in clears.items() if i["enabled"]}
     assert enabled == {k for k, v in before.items() if v} and "Stipples" in enabled and "Hatching" not in enabled
     run = Layout()
-    panels._draw_last_run(run, tree)
+    panels._draw_last_run(run, bpy.context, tree)
     shown = [i["text"] for i in run.of("label")]
     assert shown[0] == "Last run: done" and shown[1].startswith("Strokes: ")
     assert bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Stipples") == {"FINISHED"}
@@ -164,16 +164,16 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     assert after["Stipples"] == [] and len(after["Silhouette"]) == len(before["Silhouette"])
     # the sidebar's figures are the run's, no longer the ink's: it says so, not the old count
     run = Layout()
-    panels._draw_last_run(run, tree)
+    panels._draw_last_run(run, bpy.context, tree)
     assert [i["text"] for i in run.of("label")] == ["Last run: done", "Undone or edited since"]
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
     run = Layout()
-    panels._draw_last_run(run, tree)
+    panels._draw_last_run(run, bpy.context, tree)
     shown = [i["text"] for i in run.of("label")]
     assert shown[0] == "Last run: done" and shown[1].startswith("Strokes: ") and "frame" not in shown[1]
     bpy.context.scene.frame_set(7)                             # on another frame: the count says where it was drawn
     run = Layout()
-    panels._draw_last_run(run, tree)
+    panels._draw_last_run(run, bpy.context, tree)
     assert [i["text"] for i in run.of("label")][1].endswith(" (drawn on frame 1)")
     bpy.context.scene.frame_set(1)
     with pytest.raises(RuntimeError, match="no ink layer 'Nope' on 'pear Ink'"):

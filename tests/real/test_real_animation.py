@@ -21,7 +21,7 @@ def test_real_ui_an_artist_bakes_an_animation(user_dir, tmp_path):
     assert facts["held_frames"] == [1, 2] and facts["held_state"] == "running"
     assert facts["stopped_state"] == "stopped" and facts["stopped_frames"] == [1, 2]
     # Ctrl+Z while a bake runs stops it (not the step before it: the model stays)
-    assert facts["undo_key_state"] == "stopped" and facts["undo_key_frames"] == [1, 2]
+    assert facts["undo_key_state"] == "stopped" and facts["undo_key_frames"] == [1, 2, 4]
     assert facts["tree_after_undo_key"] is True and facts["frames_after_undoing_the_stopped_bake"] == [1, 2]
     assert facts["frame_after_stop"] == 1                                   # back where the artist was
     assert facts["full_state"] == "done" and facts["full_frames"] == [1, 2, 3, 4, 5, 6]

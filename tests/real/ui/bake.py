@@ -9,8 +9,8 @@ set-up (and why) is marked [Python].
    over the viewport, F3, "bake frames", Return (Object > BlobTree Ink > Bake Frames:
    the tree's bake range, the scene's). When frame 3's worker holds: a screenshot,
    Escape. The bake stops with frames 1 and 2 kept; the timeline is back on frame 1.
-   Again, held in frame 2, and Ctrl+Z: the bake stops as with Escape (the model stays,
-   frame 1 kept); Ctrl+Z again takes that bake back.
+   Frames 4-6 [Python: the range], held in frame 5, and Ctrl+Z: the bake stops as with
+   Escape (the model stays, frame 4 kept); Ctrl+Z again takes that bake back.
 3. F3 "bake frames" again: all six frames; Adjust Last Operation holds the range baked.
 4. Ctrl+Z: the second bake is undone as one step (frames 1 and 2 again); Ctrl+Shift+Z
    redoes it. The bake run as Adjust Last Operation runs it (its execute, in the UI, with
@@ -94,10 +94,13 @@ def run():
     yield {"action": "screenshot", "name": "bake_stopped.png"}
 
     # --- 2b. Ctrl+Z while a bake runs stops it as Escape does; Ctrl+Z again takes it back -----
+    tree.ink.use_scene_range = False                     # [Python] a range of its own, 4-6, this once
+    tree.ink.frame_start, tree.ink.frame_end = 4, 6
+    bpy.ops.ed.undo_push(message="a range of its own")
     hold.arm(1, run=2)
     bake.last_bake.clear()
     yield from menu_search(win, vregion, "bake frames")
-    yield from until(hold.reached.is_set, 240, "frame 2's worker to hold")
+    yield from until(hold.reached.is_set, 240, "frame 5's worker to hold")
     x, y = screen_xy(win, vregion, vregion.width / 2, vregion.height / 2)
     yield {"action": "mouse", "x": x, "y": y}
     yield {"action": "key", "keys": ["ctrl+z"], "pause": 0.5}
@@ -108,6 +111,8 @@ def run():
     yield {"action": "key", "keys": ["ctrl+z"], "pause": 1.0}
     tree, sc = bpy.data.node_groups["two_spheres"], bpy.context.scene      # undo replaced the data
     record(frames_after_undoing_the_stopped_bake=drawn(tree))
+    tree.ink.use_scene_range = True                      # [Python] the scene's range again
+    bpy.ops.ed.undo_push(message="the scene's range")
 
     # --- 3. the whole range -----------------------------------------------------------------
     bake.last_bake.clear()

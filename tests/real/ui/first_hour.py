@@ -23,9 +23,9 @@ sent by xdotool wherever the UI allows. Python set-up (and why) is marked [Pytho
 4. F3, "stippled", Return (Object > BlobTree Ink > Looks > Stippled); the end awaited.
 5. The runner's hook armed in the hatching [Python: CHUNK 40, so that the hatching has
    dozens of parts; held after 20 of them]; F3, "hatched", Return; when the worker holds
-   and its parts are drawn: a screenshot, Escape, the run's end (the stipples stay).
-   Then F3 "hatched" again, to its end (the full count): one drawing, it clears the
-   stippled look's stipples. Then the style's hatching switched off [Python] and F3
+   and its parts are drawn: a screenshot, Escape, the run's end: a stopped look is one
+   drawing too, the stippled look's stipples go. Then F3 "hatched" again, to its end
+   (the full count). Then the style's hatching switched off [Python] and F3
    "trace feature outlines" again: the outlines alone, the hatched look not run again.
    Then hatching and stipples ticked [Python] and F3 "place strokes": both together.
 6. F12 with the mouse over the 3D viewport in the scene's engine (EEVEE in factory
@@ -295,7 +295,8 @@ def run():
             for k in after4}
     same_outlines_3_4 = {k: len(outlines3[k]) == len(after4[k]) and
                          all(np.array_equal(a, b) for a, b in zip(outlines3[k], after4[k])) for k in outlines3}
-    record(counts_after_esc=counts(ink), same_after_esc=same, same_outlines_after_stippled=same_outlines_3_4)
+    record(counts_after_esc=counts(ink), same_after_esc=same, same_outlines_after_stippled=same_outlines_3_4,
+           esc_warnings=runs["hatched_esc"].get("warnings"))
     yield {"action": "screenshot", "name": "first_hour_5_hatching_stopped.png"}
     # the same look to its end: the full hatching
     runs["hatched_full"] = yield from run_look(ill, win, vregion, "hatched", 240)

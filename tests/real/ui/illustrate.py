@@ -13,6 +13,7 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from uikit import screen_xy  # noqa: E402
 from uistep import EXT, Steps, record, start_with_example  # noqa: E402
 
 ticks = []
@@ -141,7 +142,8 @@ def undone_while_running(win, view3d, region, ill, hold):
                 break
             yield 0.1
     yield from started()
-    yield {"action": "mouse", "x": 600, "y": 450, "pause": 0.2}
+    x, y = screen_xy(win, region, region.width / 2, region.height / 2)
+    yield {"action": "mouse", "x": x, "y": y, "pause": 0.2}
     yield {"action": "key", "keys": ["ctrl+z"], "pause": 0.5}
     yield from ended()
     record(undo_key_state=ill.last_run.get("state"), tree_after_undo_key="heart" in bpy.data.node_groups,
