@@ -232,9 +232,13 @@ def _draw_last_run(layout, context, tree):
     if state in ("done", "stopped") and changed_since(last_run):
         col.label(text="Undone or edited since", icon="INFO")
         return
+    if state in ("undone", "cancelled"):           # what it had drawn went with it
+        col.label(text="Nothing drawn")
+        return
     frame = context.scene.frame_current
     drawn_on = (last_run.get("left") or {}).get("frame", frame)
-    col.label(text=f"Strokes: {last_run.get('strokes', 0)}" + (f" (drawn on frame {drawn_on})" if drawn_on != frame else ""))
+    where = f" (drawn on frame {drawn_on})" if drawn_on != frame else ""
+    col.label(text=f"Strokes: {last_run.get('strokes', 0)}{where}")
     if last_run.get("iterations"):
         col.label(text=f"Agents' iterations: {last_run['iterations']}")
 

@@ -176,6 +176,14 @@ def test_ink_layers_clears_one_layer_at_this_frame(example):
     panels._draw_last_run(run, bpy.context, tree)
     assert [i["text"] for i in run.of("label")][1].endswith(" (drawn on frame 1)")
     bpy.context.scene.frame_set(1)
+    figures = panels.last_run
+    kept = dict(figures)
+    figures["state"] = "undone"                                 # a run an undo took back drew nothing
+    run = Layout()
+    panels._draw_last_run(run, bpy.context, tree)
+    assert [i["text"] for i in run.of("label")] == ["Last run: undone", "Nothing drawn"]
+    figures.clear()
+    figures.update(kept)
     with pytest.raises(RuntimeError, match="no ink layer 'Nope' on 'pear Ink'"):
         bpy.ops.blobtree_ink.clear_layer(object_name="pear Ink", layer="Nope")
 
