@@ -1,9 +1,23 @@
 """Ink that no longer fits: each layer remembers the eye, the model and the models in
 front of it it was drawn for; the sidebar says when the ink is out of date, a request
 names the layers it leaves, and a look draws them again."""
+from types import SimpleNamespace
+
 import bpy
 import numpy as np
 from ink_layers import ink
+from recording_layout import Layout
+
+
+def stale_note(ext, tree):
+    """What the sidebar's out-of-date note says of ``tree`` (its lines joined), or ''."""
+    panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
+    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
+                              preferences=bpy.context.preferences)
+    bpy.context.view_layer.update()
+    rec = Layout()
+    panels._draw_stale(rec, context, tree)
+    return " ".join(i["text"] for i in rec.of("label")).replace("  ", " ")
 
 
 def test_layers_drawn_for_another_viewpoint_are_named_and_a_look_redraws_its_outlines(ext, example):
@@ -98,10 +112,8 @@ def test_ink_drawn_before_a_model_in_front_moved_is_said(ext, example):
     of them moves or changes, or another comes between, the sidebar says the ink is out
     of date; a model moved about beside the view hides nothing and is not news."""
     import json
-    from types import SimpleNamespace
 
     from aimed_camera import aimed_camera
-    from recording_layout import Layout
     panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
     preview = __import__(f"{ext.__name__}.blobtree_nodes.preview", fromlist=["x"])
     views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
@@ -116,14 +128,9 @@ def test_ink_drawn_before_a_model_in_front_moved_is_said(ext, example):
     for t in (back, front, aside):
         t.ink.grid_resolution = 10
         preview.rebuild(t)
-    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
-                              preferences=bpy.context.preferences)
 
     def stale():
-        bpy.context.view_layer.update()
-        rec = Layout()
-        panels._draw_stale(rec, context, back)
-        return " ".join(i["text"] for i in rec.of("label")).replace("  ", " ")
+        return stale_note(ext, back)
     assert bpy.ops.blobtree_ink.illustrate(tree_name=back.name, request="OUTLINES") == {"FINISHED"}
     kept = json.loads(bpy.data.objects[f"{back.name} Ink"][views.HIDERS]["Silhouette@1"])
     assert sorted(kept) == [front.name, aside.name]
@@ -182,9 +189,6 @@ def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, e
     """Each layer remembers the model it was drawn for (model.fingerprint): after an
     edit the sidebar says the ink is out of date; a Look traces the outlines again and
     clears the layers it does not draw; a request names those it leaves."""
-    from types import SimpleNamespace
-
-    from recording_layout import Layout
     views = __import__(f"{ext.__name__}.grease_pencil.views", fromlist=["x"])
     panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
     preview = __import__(f"{ext.__name__}.blobtree_nodes.preview", fromlist=["x"])
@@ -192,13 +196,9 @@ def test_ink_drawn_before_the_model_changed_is_said_and_a_look_redraws_it(ext, e
     bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
     tree = bpy.data.node_groups["pear"]
     tree.ink.grid_resolution = 12
-    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
-                              preferences=bpy.context.preferences)
 
     def stale():
-        rec = Layout()
-        panels._draw_stale(rec, context, tree)
-        return " ".join(i["text"] for i in rec.of("label"))
+        return stale_note(ext, tree)
     assert bpy.ops.blobtree_ink.illustrate(tree_name="pear", preset="STIPPLED") == {"FINISHED"}
     obj = bpy.data.objects["pear Ink"]
     before = obj[views.MODELS]["Silhouette@1"]
@@ -242,23 +242,15 @@ def test_ink_drawn_from_the_camera_before_the_camera_or_the_model_moved_is_said(
     """Drawn from the scene camera, the ink holds for that camera where the model stood:
     the sidebar says so once the camera or the model has moved (a look draws it again);
     a move that sees the model alike, or ink drawn from a viewport, is not news."""
-    from types import SimpleNamespace
-
     from aimed_camera import aimed_camera
-    from recording_layout import Layout
     panels = __import__(f"{ext.__name__}.operators.panels", fromlist=["x"])
     bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
     tree = bpy.data.node_groups["sphere"]
     tree.ink.grid_resolution = 10
     cam = aimed_camera((0.0, -8.0, 0.0), (0.0, 0.0, 0.0))
-    context = SimpleNamespace(scene=bpy.context.scene, region=SimpleNamespace(width=300),
-                              preferences=bpy.context.preferences)
 
     def stale():
-        bpy.context.view_layer.update()
-        rec = Layout()
-        panels._draw_stale(rec, context, tree)
-        return " ".join(i["text"] for i in rec.of("label")).replace("  ", " ")
+        return stale_note(ext, tree)
     note = panels.STALE_VIEW.replace("  ", " ")
     assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
     assert stale() == ""
