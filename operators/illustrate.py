@@ -138,8 +138,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                     and set(jobs.traced_layers(job)) & set(elsewhere):
                 job = replace(job, requests=(PL.Request("OUTLINES"),) + job.requests)    # a look is one drawing
                 elsewhere = {n: w for n, w in elsewhere.items() if n not in job.owned_layers()}
-            if look:                    # ... and clears the strokes another look drew
-                others = [n for n in STROKE_LAYERS if n not in job.owned_layers() and n not in elsewhere
+            if look:                    # ... and clears the strokes another look drew (the truer reason where
+                others = [n for n in STROKE_LAYERS if n not in job.owned_layers()       # they were drawn elsewhere too)
                           and n in obj.data.layers and FR.strokes_at(obj.data.layers[n], frame)]
                 self.unfit = {**elsewhere, **dict.fromkeys(others, jobs.ANOTHER_LOOK)}
             else:
