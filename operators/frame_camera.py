@@ -1,9 +1,10 @@
 """Frame Camera: the scene camera moved, its direction kept, until the tree's model
-fills its frame with the framing margin (an orthographic one also zoomed), so that a
-From Camera run and a render see the whole model. Without a scene camera one is made,
-looking from the three-quarter view. One undo step.
+(with Every Model, every BlobTree model in the scene) fills its frame with the framing
+margin (an orthographic one also zoomed), so that a From Camera run and a render see
+the whole model. Without a scene camera one is made, looking from the three-quarter
+view. One undo step.
 
-    bpy.ops.blobtree_ink.frame_camera(tree_name="heart")
+    bpy.ops.blobtree_ink.frame_camera(tree_name="heart", every_model=True)
 """
 import bpy
 import numpy as np
@@ -16,7 +17,7 @@ from ..grease_pencil.scene import CAMERA, look_rotation
 from ..model import Evaluator
 from ..pipeline.framing import LENS, SENSOR
 from . import jobs
-from .common import context_tree
+from .common import blobtrees, context_tree
 
 
 class BLOBTREE_INK_OT_frame_camera(bpy.types.Operator):
@@ -27,19 +28,24 @@ class BLOBTREE_INK_OT_frame_camera(bpy.types.Operator):
 
     tree_name: bpy.props.StringProperty(name="Tree", options={"SKIP_SAVE"},
                                         description="The BlobTree node tree (empty: the active one)")
+    every_model: bpy.props.BoolProperty(name="Every Model", default=False,
+                                        description="Frame every BlobTree model in the scene, not only this one")
 
     def execute(self, context):
+        scene = context.scene
         try:
             tree = context_tree(context, self.tree_name)
-            model, _ = compile_document(tree)
-            centre, radius = PL.bounds(Evaluator(model))
+            trees = [t for t in blobtrees() if t == tree or jobs.in_scene(t, scene)] if self.every_model else [tree]
+            models = [_in_scene(t) for t in trees]
         except (TreeError, PL.NothingToDraw, LookupError) as e:
             self.report({"ERROR"}, str(e))
             return {"CANCELLED"}
-        place = jobs.placement(tree)
-        centre = np.array(place @ Vector(tuple(centre)), float)
-        radius *= max(v.length for v in place.to_3x3().col)
-        scene = context.scene
+        points = np.concatenate([p for _, _, p in models])
+        if len(models) == 1:                 # one model: about its own centre
+            centre, radius, _ = models[0]
+        else:                              # several: about the middle of them all
+            centre = 0.5 * (points.min(axis=0) + points.max(axis=0))
+            radius = float(np.linalg.norm(points - centre, axis=1).max())
         cam = scene.camera
         if cam is None:
             cam = _new_camera(scene, centre, radius)
@@ -47,8 +53,8 @@ class BLOBTREE_INK_OT_frame_camera(bpy.types.Operator):
             self.report({"ERROR"}, f"the scene camera '{cam.name}' is not a camera object: make a camera "
                                    "the scene's (Ctrl+Numpad 0 on one)")
             return {"CANCELLED"}
-        frame(scene, cam, centre, outline_points(tree, centre, radius))
-        moved = f"'{cam.name}' frames '{tree.name}'"
+        frame(scene, cam, centre, points)
+        moved = f"'{cam.name}' frames " + ", ".join(f"'{t.name}'" for t in trees)
         held = held_by(cam)
         if held:
             self.report({"WARNING"}, f"{moved}, but its {held} may move it back: key its new place (I) or "
@@ -56,6 +62,18 @@ class BLOBTREE_INK_OT_frame_camera(bpy.types.Operator):
         else:
             self.report({"INFO"}, moved)
         return {"FINISHED"}
+
+
+def _in_scene(tree):
+    """The tree's model in the scene: its centre, its radius and the points a frame must
+    hold (:func:`outline_points`); raises TreeError for a tree that does not compile,
+    NothingToDraw for an empty model."""
+    model, _ = compile_document(tree)
+    centre, radius = PL.bounds(Evaluator(model))
+    place = jobs.placement(tree)
+    centre = np.array(place @ Vector(tuple(centre)), float)
+    radius *= max(v.length for v in place.to_3x3().col)
+    return centre, radius, outline_points(tree, centre, radius)
 
 
 def outline_points(tree, centre, radius):

@@ -241,3 +241,23 @@ def test_an_orthographic_viewport_sees_from_its_direction_wherever_it_is_panned(
     np.testing.assert_allclose(eyes[0], centre + jobs.ORTHO_DISTANCE * radius * back, atol=1e-4)
     np.testing.assert_allclose(jobs.viewport_eye(viewport((4, -2, 7), True), centre, radius), [4, -2, 7], atol=1e-5)
     assert jobs.viewport_eye(SimpleNamespace(), centre, radius) is None        # no 3D viewport
+
+
+def test_frame_camera_on_every_model_frames_them_all(ext, example):
+    """Every Model: the camera frames every BlobTree model in the scene together, its
+    direction kept; a model not in the scene does not count."""
+    bpy.ops.blobtree_ink.import_json(filepath=example("pear"), preview=True)
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
+    pear, sphere, sc = bpy.data.node_groups["pear"], bpy.data.node_groups["sphere"], bpy.context.scene
+    sc.render.resolution_x, sc.render.resolution_y = 1920, 1080
+    cam = aimed_camera((-6.0, -8.0, 1.0), (-6.0, 0.0, 0.5))
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere") == {"FINISHED"}
+    bpy.context.view_layer.update()
+    assert not (in_frame(cam, pear.preview_object)[:, :2] > 0).all()        # the one model: the pear left out
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere", every_model=True) == {"FINISHED"}
+    bpy.context.view_layer.update()
+    both = np.concatenate([in_frame(cam, t.preview_object) for t in (pear, sphere)])
+    assert (both[:, :2] > 0).all() and (both[:, :2] < 1).all()
+    assert np.ptp(both[:, 0]) > 0.8 or np.ptp(both[:, 1]) > 0.8               # together they fill the frame
+    bpy.data.node_groups.new("loose", "BlobTreeInkNodeTree")                  # in no scene: left out, no error
+    assert bpy.ops.blobtree_ink.frame_camera(tree_name="sphere", every_model=True) == {"FINISHED"}
