@@ -72,7 +72,7 @@ def _in_scene(tree):
     centre, radius = PL.bounds(Evaluator(model))
     place = jobs.placement(tree)
     centre = np.array(place @ Vector(tuple(centre)), float)
-    radius *= max(v.length for v in place.to_3x3().col)
+    radius *= jobs.scale_of(place)
     return centre, radius, outline_points(tree, centre, radius)
 
 

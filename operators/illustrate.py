@@ -120,8 +120,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             self.notes += [off] if off else []
         else:
             centre, radius = framing()
-            scale = max(abs(v) for v in self.placement.to_scale())     # the model's radius in the scene
-            eye = jobs.viewport_eye(context, np.array(self.placement @ Vector(centre), float), scale * radius)
+            eye = jobs.viewport_eye(context, np.array(self.placement @ Vector(centre), float),
+                                    jobs.scale_of(self.placement) * radius)
             if eye is None:
                 raise PL.JobError("From Camera is off and there is no 3D viewport to illustrate from: run it "
                                   "from the 3D viewport, or switch From Camera on")

@@ -44,6 +44,12 @@ def direction_to_model(matrix, d):
     return tuple(v / np.linalg.norm(v))
 
 
+def scale_of(matrix):
+    """The most a placement matrix stretches a length: a model's radius in the scene is
+    its own times this."""
+    return max(v.length for v in matrix.to_3x3().col)
+
+
 def attach(ink, tree):
     """The ink object follows its model: a child of the preview object, drawn in the
     model's coordinates, its own move, turn and scale locked (its lines are the model's

@@ -12,8 +12,6 @@ from ..blobtree_nodes.compile import output_nodes
 from ..blobtree_nodes.panels import nodes_with_errors
 from ..blobtree_nodes.settings import PRESETS
 from ..grease_pencil import views
-from ..pipeline.job import SINGLE_LAYER
-from ..strokes.data import LAYERS
 from . import frames as FR
 from . import jobs
 from .common import TREE, active_tree, blobtrees, focus, ink_name
@@ -78,7 +76,7 @@ def _draw_stale(layout, context, tree):
     lines have moved or changed since (one that stood between the eye and the model, or
     one that has come between)."""
     obj, key = bpy.data.objects.get(ink_name(tree)), preview.shown_model(tree)
-    drawn = [n for n in LAYERS if n != SINGLE_LAYER]          # (the single strokes are the artist's own)
+    drawn = FR.DRAWN                                          # (the single strokes are the artist's own)
     if obj is None or obj.type != "GREASEPENCIL" or key is None:
         return
     frame, scene = context.scene.frame_current, context.scene

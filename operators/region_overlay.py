@@ -11,6 +11,7 @@ from ..agents import Region
 from ..blobtree_nodes import changes
 from ..blobtree_nodes.compile import TreeError, compile_tree
 from ..model import Evaluator
+from . import jobs
 from .common import blobtrees
 
 COLOR = (0.95, 0.45, 0.1, 0.9)      # an orange that reads over the grey grid and the white paper
@@ -77,7 +78,7 @@ def segments_now(context):
         if tree.ink.region == "CURSOR" and tree.name not in _running:
             radius = model_radius(tree)
             obj = tree.preview_object
-            scale = max(obj.matrix_world.to_scale()) if obj is not None else 1.0
+            scale = jobs.scale_of(obj.matrix_world) if obj is not None else 1.0
             if radius is not None:
                 out.append(outline(Region(sphere=(np.array(context.scene.cursor.location, float),
                                                   tree.ink.region_size * radius * scale))))
