@@ -11,7 +11,7 @@ whose ends meet is closed.
 """
 import numpy as np
 
-from ..blackboard.board import pairs_within
+from ..blackboard.cells import pairs_within
 from ..blackboard.keys import unique_rows
 
 REACH = 1.6         # ends pointing at each other are joined across up to this many links

@@ -9,7 +9,8 @@ itself keeps before each question through the pairs found at its start, resolved
 goes; a question alone is a loop of one."""
 import numpy as np
 
-from ..blackboard.board import FEATURE_KINDS, KIND_ID, _NEIGHBOURS, pack, pack_around
+from ..blackboard.board import FEATURE_KINDS, KIND_ID
+from ..blackboard.cells import _NEIGHBOURS, pack, pack_around
 
 SELF_GAP = 6        # steps along an outline within which its own points do not stop it
 _NONE = len(_NEIGHBOURS)        # no hit: beyond the last of the 27 cells

@@ -391,7 +391,7 @@ def crossing_figures(ev, cam, tone_strokes, outlines):
     C, D, width = L[:, 0:2], L[:, 2:4], 2 * L[:, 4]
     mid = 0.5 * (C + D)
     reach = 0.5 * np.linalg.norm(D - C, axis=1).max()
-    from blobtree_ink.blackboard.board import pairs_within
+    from blobtree_ink.blackboard.cells import pairs_within
     for s in tone_strokes:
         xy, r, _ = stroke_pixels(cam, s, 1024)
         if len(xy) == 1 or s.dots:

@@ -9,6 +9,8 @@ of growable arrays, so statistics are vector operations (bincount) too.
 """
 import numpy as np
 
+from .cells import _NEIGHBOURS, pack, pack_around, pairs_within, unpack
+
 from .polygonise import Mesh
 
 SAMPLE_KINDS = {"corner": 0, "vertex": 1, "path": 2}
@@ -49,37 +51,6 @@ class Grow:
         return self.n
 
 
-_OFF = 1 << 20          # voxel indices from -2^20 to 2^20 - 1 pack into 21 bits each
-
-
-def pack(ijk):
-    ijk = np.asarray(ijk, np.int64) + _OFF
-    if ijk.size and (ijk.min() < 0 or ijk.max() >= 2 * _OFF):
-        raise ValueError("voxel index out of the blackboard's range (|i| < 2^20)")
-    return (ijk[..., 0] << 42) | (ijk[..., 1] << 21) | ijk[..., 2]
-
-
-_NEIGHBOURS = np.array([(dx, dy, dz) for dx in (-1, 0, 1) for dy in (-1, 0, 1) for dz in (-1, 0, 1)], np.int64)
-_NEIGHBOUR_KEYS = (_NEIGHBOURS[:, 0] << 42) + (_NEIGHBOURS[:, 1] << 21) + _NEIGHBOURS[:, 2]
-
-
-def pack_around(ijk):
-    """(k, 27) packed keys of the 3x3x3 neighbourhood of each voxel (k, 3), in the
-    order of _NEIGHBOURS: a voxel's key plus each offset's (packing is linear while
-    every index stays in range, which the check of the voxels one step out ensures)."""
-    ijk = np.asarray(ijk, np.int64).reshape(-1, 3)
-    if ijk.size and (ijk.min() - 1 < -_OFF or ijk.max() + 1 >= _OFF):
-        raise ValueError("voxel index out of the blackboard's range (|i| < 2^20)")
-    return pack(ijk)[:, None] + _NEIGHBOUR_KEYS[None, :]
-
-
-def unpack(keys):
-    """The voxel triples (k, 3) of packed keys."""
-    keys = np.asarray(keys, np.int64)
-    mask = (1 << 21) - 1
-    return np.stack([keys >> 42, (keys >> 21) & mask, keys & mask], axis=-1) - _OFF
-
-
 _CORNERS = np.array([(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)], np.int64)
 _CORNER_PAIRS = np.triu_indices(8, 1)
 
@@ -87,28 +58,6 @@ _CORNER_PAIRS = np.triu_indices(8, 1)
 def _unique_ijk(ijk):
     """Distinct voxel triples, in packed-key order."""
     return unpack(np.unique(pack(np.asarray(ijk, np.int64).reshape(-1, 3))))
-
-
-def pairs_within(A, B, r):
-    """Index pairs (i, j), i sorted, of the points A[i] and B[j] closer than r: B hashed
-    in cells of at least r (the 27 cells around a point of A hold every B within r)."""
-    A, B = np.atleast_2d(A), np.atleast_2d(B)
-    none = np.zeros(0, np.int64)
-    if len(A) == 0 or len(B) == 0 or not r > 0:
-        return none, none
-    lo = np.minimum(A.min(0), B.min(0))
-    span = float(max((A.max(0) - lo).max(), (B.max(0) - lo).max()))
-    cell = max(float(r), span / (_OFF - 2))            # cell indices stay packable
-    kb = pack(np.floor((B - lo) / cell).astype(np.int64))
-    order = np.argsort(kb, kind="stable")
-    kb = kb[order]
-    ka = pack_around(np.floor((A - lo) / cell).astype(np.int64)).ravel()
-    start = np.searchsorted(kb, ka, "left")
-    count = np.searchsorted(kb, ka, "right") - start
-    i = np.repeat(np.arange(len(ka)) // len(_NEIGHBOURS), count)
-    j = order[np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count - start, count)]
-    near = ((A[i] - B[j]) ** 2).sum(-1) < r * r
-    return i[near], j[near]
 
 
 class VoxelIndex:

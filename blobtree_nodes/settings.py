@@ -260,20 +260,22 @@ class BlobTreeInkSettings(bpy.types.PropertyGroup):
     flock_size: bpy.props.IntProperty(name="Flock Size", default=_STYLE.flock_size, min=1, max=64,
                                       description="Smarticles per flock, side by side (1: single smarticles)")
     shade_lower: bpy.props.FloatProperty(name="Shade Lower", default=_STYLE.shade_lower, min=0.0, max=1.0,
-                                         description="Below this light every start gets a stroke")
+                                         description="Below this light the ink is at its darkest (form and cast shadows)")
     shade_upper: bpy.props.FloatProperty(name="Shade Upper", default=_STYLE.shade_upper, min=0.0, max=1.0,
-                                         description="Above this light no stroke (between: the penumbra, at random)")
+                                         description="The highlight threshold: above this light the paper stays white")
     chain_step: bpy.props.IntProperty(name="Chain Step", default=_STYLE.chain_step, min=1, max=10000,
                                       description="Every n-th point of the feature chains starts a stroke")
     chain_angle: bpy.props.FloatProperty(name="Chain Angle", default=_STYLE.chain_angle, min=-180.0, max=180.0,
                                          description="Degrees between a feature chain and the strokes started from it")
     stipple_every: bpy.props.IntProperty(name="Stipple Every", default=_STYLE.stipple_every, min=1, max=1000,
-                                         description="A stipple at every k-th step of a wandering smarticle")
+                                         description="Stipples are chosen among every k-th step of a wandering "
+                                                     "smarticle (and the points about it)")
     line_width: bpy.props.FloatProperty(name="Line Width", default=_STYLE.line_width, min=0.01, max=100.0,
                                         description="Width of every line and dot, times the base width (about a "
                                                     "pixel at 1024 pixels in a view framing the model)")
     contrast: bpy.props.FloatProperty(name="Light Contrast", default=_STYLE.contrast, min=0.0, max=1.0,
-                                      description="How much the light sets stroke width and opacity (0: uniform)")
+                                      description="How much of the tonal range the light spans (1: from the highlight to the "
+                                                  "full shade; 0: one flat tone over all that is not highlight)")
 
 
 classes = (BlobTreeInkSettings,)

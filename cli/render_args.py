@@ -77,7 +77,7 @@ def add_parser(sub):
     g.add_argument("--chain-angle", type=float, default=None, help="degrees between a chain and its strokes")
     g.add_argument("--stipple-every", type=int, default=None, help="a stipple at every k-th wander step")
     g.add_argument("--line-width", type=float, default=None, help="line width factor (default 1)")
-    g.add_argument("--contrast", type=float, default=None, help="0-1: how much the light sets width and opacity")
+    g.add_argument("--contrast", type=float, default=None, help="0-1: how much of the tonal range the light spans (0: one flat tone)")
     return p
 
 

@@ -96,22 +96,29 @@ def surface_marks(ev, spacing, salt=0, owners=None):
 
 
 def surface_area(ev, owners=None, samples=AREA_SAMPLES):
-    """The area of the model's surface, from about ``samples`` candidates laid out as the
-    marks are: each primitive's share of its own surface that it keeps, times how much
-    that share grew on the way out. A part that moves without meeting others keeps its
-    share exactly, so the area (and the line width and stroke lengths made from it)
-    stays put."""
+    """The area of the model's surface (:func:`surface_measures`)."""
+    return surface_measures(ev, owners, samples)[0]
+
+
+def surface_measures(ev, owners=None, samples=AREA_SAMPLES):
+    """The area of the model's surface and its centre (the mean of its points, by
+    area), from about ``samples`` candidates laid out as the marks are: each primitive's
+    share of its own surface that it keeps, times how much that share grew on the way
+    out. A part that moves without meeting others keeps its share exactly, so the area
+    (and the line width and stroke lengths made from it) stays put, and moving or turning
+    the whole model moves its centre with it."""
     owners = owners if owners is not None else Owners(ev.model)
     shapes = [(i, placed, Shape(placed.node, ev.iso)) for i, placed in enumerate(owners.placed)]
     own = np.array([shape.area * placed.area_scale() for _, placed, shape in shapes])
     if not len(own) or own.sum() <= 0:
-        return 0.0
+        return 0.0, None
     s2 = own.sum() / samples
     counts = np.maximum(np.rint(own / s2).astype(np.int64), 1)
     c = _candidates(ev, shapes, [(1, n) for n in counts], 0)
     kept = owners.of(c.points) == c.prim
-    grown = np.bincount(c.prim[kept], c.stretch[kept], len(shapes))
-    return float((own / counts * grown).sum())
+    w = (own / counts)[c.prim[kept]] * c.stretch[kept]
+    centre = (w[:, None] * c.points[kept]).sum(0) / w.sum() if w.sum() > 0 else None
+    return float(w.sum()), centre
 
 
 @dataclass(frozen=True)
@@ -163,14 +170,16 @@ def _candidates(ev, shapes, ranges, salt):
 
 
 def _onto(ev, P0, out, reach):
-    """Each point moved along its direction ``out`` (outward where the field is above
-    iso, inward where below) to where the field crosses iso, within ``reach``: the
-    crossing bracketed in BRACKET_STEPS samples, then bisected. Returns the points and
-    whether a crossing was found."""
+    """Each point moved along its direction ``out`` to where the field crosses iso,
+    within ``reach``: the way along it where the field goes towards iso (outward from
+    inside a part; inward from inside a subtracted part's hollow, whose field grows
+    outwards), the crossing bracketed in BRACKET_STEPS samples, then bisected. Returns
+    the points and whether a crossing was found."""
     iso = ev.iso
-    f0 = ev.field(P0)
-    sign = np.where(f0 >= iso, 1.0, -1.0)            # inside: outwards; outside: inwards
-    step = (reach / BRACKET_STEPS) * sign
+    f0, g0 = ev.field_grad(P0)
+    rising = np.einsum("ij,ij->i", g0, out) > 0       # the field grows along out (a subtracted part)
+    side = np.where(f0 >= iso, 1.0, -1.0)              # inside (1) or outside (-1) the solid
+    step = (reach / BRACKET_STEPS) * side * np.where(rising, -1.0, 1.0)
     lo = np.zeros(len(P0))
     hi = np.full(len(P0), np.nan)
     live = np.flatnonzero(f0 != iso)
@@ -179,7 +188,7 @@ def _onto(ev, P0, out, reach):
             break
         t = k * step[live]
         f = ev.field(P0[live] + t[:, None] * out[live])
-        crossed = (f - iso) * sign[live] <= 0
+        crossed = (f - iso) * side[live] <= 0
         hi[live[crossed]] = t[crossed]
         lo[live[~crossed]] = t[~crossed]
         live = live[~crossed]
@@ -190,7 +199,7 @@ def _onto(ev, P0, out, reach):
     for _ in range(BISECTIONS):
         m = 0.5 * (a + b)
         f = ev.field(P0[idx] + m[:, None] * out[idx])
-        inside = (f - iso) * sign[idx] > 0
+        inside = (f - iso) * side[idx] > 0
         a, b = np.where(inside, m, a), np.where(inside, b, m)
     t = np.zeros(len(P0))
     t[idx] = 0.5 * (a + b)

@@ -145,9 +145,9 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             else:
                 note = jobs.elsewhere_note(elsewhere, job)
                 self.notes += [note] if note else []
-        if obj is not None and job.style.stipples and not job.wants_outline_layers():
+        if obj is not None and job.stroke_switches() and not job.wants_outline_layers():
             job = replace(job, lines=tuple(s for n in jobs.traced_layers(job) if n in obj.data.layers
-                                           for s in read_layer(obj, n, frame)))     # stipples keep clear of them
+                                           for s in read_layer(obj, n, frame)))     # the strokes end at them
         self.illustration = PL.Illustration(job)
         self.edits0 = changes.edits(tree)
         jobs.on_paper(context, tree)

@@ -9,7 +9,7 @@ import math
 import numpy as np
 
 from ..blackboard.polygonise import surface_box
-from ..model.marks import surface_area
+from ..model.marks import surface_measures
 from ..model.owners import owners
 from ..model.vectors import cross
 
@@ -39,9 +39,21 @@ def bounds(ev):
 
 def size(ev):
     """The model's size: the square root of its surface's area (made once per evaluator)."""
-    if "size" not in ev.memo:
-        ev.memo["size"] = float(np.sqrt(surface_area(ev, owners(ev))))
-    return ev.memo["size"]
+    return float(np.sqrt(_surface(ev)[0]))
+
+
+def surface_centre(ev):
+    """The centre of the model's surface (model.marks.surface_measures; the box's centre
+    where it has none): it moves and turns with the model, so the paper the marks are
+    spaced on (strokes.paper) does too."""
+    centre = _surface(ev)[1]
+    return centre if centre is not None else 0.5 * (ev.bounds[0] + ev.bounds[1])
+
+
+def _surface(ev):
+    if "surface" not in ev.memo:
+        ev.memo["surface"] = surface_measures(ev, owners(ev))
+    return ev.memo["surface"]
 
 
 def line_radius(ev):

@@ -22,19 +22,19 @@ import time
 from dataclasses import replace
 
 import numpy as np
-from numpy.random import default_rng    # numpy imports it lazily: here, not in a run's first call
 
 from ..agents import Session
 from ..blackboard.view import View
 from ..model import Evaluator, key_of
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
-from ..strokes.stipples import Spacing
+from ..strokes import grown as GR
+from ..strokes.stipples import Dots
 from . import hiding as HD
 from . import layers as LY
 from .continuation import Continuation
 from .framing import bounds, default_light, line_radius, stroke_unit, view_eye
-from .job import FIND_FEATURES, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
+from .job import FIND_FEATURES, JobError, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
 from .result import Progress, Result
 
 # each stage's share of a run, for the progress figure (sampling: the share of the
@@ -61,6 +61,7 @@ class Illustration:
         self.hiders = None             # the other models that hide its lines (pipeline.hiding.hiders)
         self.layers = {}               # layer name -> strokes finished
         self.outline_set = None        # the visible outlines (a StrokeSet), once that stage ran
+        self._lines_kept = None        # ... as the ink keeps them (_drawn_lines)
         self.warnings = []
         if PLACE_STROKES in self.job.kinds and not self.job.stroke_switches():
             self.warnings.append("the style draws no strokes: turn on Hatching, Stipples, Chain Strokes or "
@@ -75,9 +76,8 @@ class Illustration:
         self.at = 0                    # the stage being worked on
         self.completed = []            # the stages done (a stop skips the rest)
         self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
-        self._rng = None                   # ... and the chains' random generator
-        self._spacing = None               # ... and the stipples' spacing (strokes.stipples.Spacing)
-        self._crowding = None              # ... and the hatching's strokes so far (strokes.crowding.Crowding)
+        self._dots = None                  # ... and the stipples drawn so far (strokes.stipples.Dots)
+        self._lines = None                 # ... and the hatching's lines so far (strokes.grown.Lines)
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -171,7 +171,11 @@ class Illustration:
         if j.light is not None:
             light = np.asarray(j.light, float)
         elif j.light_at is not None and np.linalg.norm(np.asarray(j.light_at, float) - centre) > 0:
-            light = np.asarray(j.light_at, float) - centre
+            at = np.asarray(j.light_at, float)
+            if self.ev.field(at[None])[0] >= self.ev.iso:
+                raise JobError(f"the light at ({', '.join(f'{x:.3g}' for x in at)}) is inside the model: every "
+                               "point of its surface would be in its own shadow; move the light out of it")
+            light = at - centre
         else:
             light = default_light(centre, self.eye)
         self.light = light / np.linalg.norm(light)
@@ -275,30 +279,47 @@ class Illustration:
             self._parts = None
             self._next()
 
-    def _hatching(self, cross=False):
+    def _line_layer(self, stage, parts, draw, marks=None, **kw):
+        """A layer of lines spaced on the paper (strokes.hatching) in parts, its lines so
+        far kept over them, ended at the visible outlines."""
         if self._parts is None:
-            self._crowding = LY.crowding(self.canvas, self.centre)      # the layer's strokes so far, over its parts
-        self._stroke_layer(STYLE_LAYERS["hatching"], LY.mark_parts, LY.hatching, "hatching", cross=cross,
-                           crowding=self._crowding)
+            self._lines = GR.Lines()
+        self._stroke_layer(STYLE_LAYERS[stage], parts, draw, marks, lines=self._lines,
+                           outlines=self._drawn_lines(), seed=self.job.seed, **kw)
+
+    def _hatching(self, cross=False):
+        seed = self.job.seed
+
+        def parts(cv, sampling, marks, st, region):
+            return LY.map_parts(cross)(cv, sampling, marks, st, region, seed)
+        self._line_layer("hatching", parts, LY.hatching, "hatching", cross=cross)
 
     def _cross_hatching(self):
         self._hatching(cross=True)
 
     def _chains(self):
-        if self._parts is None:
-            # the outlines' points are no marks: the chains' choices are the job's seed's
-            self._rng = default_rng((self.job.seed, STROKE_STAGES.index("chains")))
-        self._stroke_layer(STYLE_LAYERS["chains"], LY.chains_parts, LY.chains, rng=self._rng)
+        self._line_layer("chains", LY.chains_parts, LY.chains)
 
     def _short(self):
-        self._stroke_layer(STYLE_LAYERS["short"], LY.mark_parts, LY.short, "short")
+        self._line_layer("short", LY.ordered_parts("short"), LY.short, "short")
 
     def _stipples(self):
         if self._parts is None:
-            self._spacing = Spacing()      # the layer's dots kept so far, over its parts
-        layer = STYLE_LAYERS["stipples"]
-        self._stroke_layer(layer, LY.mark_parts, LY.stipples, "stipples", drawn=self.layers.get(layer, ()),
-                           spacing=self._spacing, lines=self.outline_set or self.job.lines)
+            self._dots = Dots()            # the layer's dots drawn so far, over its parts
+        self._stroke_layer(STYLE_LAYERS["stipples"], LY.mark_parts, LY.stipples, "stipples", dots=self._dots,
+                           lines=self._drawn_lines(), seed=self.job.seed)
+
+    def _drawn_lines(self):
+        """The visible outlines the stroke layers keep clear of and end at: this run's, as
+        the ink keeps them (single precision: so a look drawn at once and one drawn from
+        the outlines already in the ink are the same), or the job's own (the ink's)."""
+        if self.outline_set is None:
+            return self.job.lines
+        if self._lines_kept is None:
+            self._lines_kept = [replace(s, points=s.points.astype(np.float32).astype(float),
+                                        radius=s.radius.astype(np.float32).astype(float))
+                                for name in LAYER_OF_KIND.values() for s in self.outline_set.layers.get(name, ())]
+        return self._lines_kept
 
     def _single(self):
         cursor = [r.cursor for r in self.requests if r.kind == SINGLE_STROKE][0]

@@ -87,7 +87,7 @@ class Job:
     model's lines, (model, matrix) each: a model.Model or model.Evaluator, and the 4x4
     matrix taking a point of this model's coordinates into that one's; ``lines``: the
     visible outlines drawn already (strokes.data.Stroke, in the model's coordinates)
-    that stipples keep clear of, where the job draws none itself (they are drawn from
+    that the stroke layers end at and keep clear of, where the job draws none itself (they are drawn from
     what the job is made from: no part of :meth:`making`)."""
     model: object
     view: View = None
@@ -147,7 +147,7 @@ class Job:
                 raise JobError(f"occluder {k}'s matrix must be an invertible 4x4 of finite numbers")
         # one seed: the job's (the sampling's explorers and every stroke layer derive theirs from it)
         return replace(self, requests=tuple(self.requests), seed=int(self.seed), lines=tuple(self.lines),
-                       settings=replace(self.settings, seed=int(self.seed)))
+                       settings=replace(self.settings, seed=int(self.seed)), style=self.style.rounded())
 
     @property
     def kinds(self):

@@ -7,7 +7,8 @@ its starts (strokes.layers places them, strokes.smarticles moves them).
 Every length of the strokes (a smarticle's step, the marks' spacing, how far chain
 strokes go) is a multiple of the canvas's ``unit`` (framing.stroke_unit), which moving
 the model or its parts does not change."""
-from dataclasses import dataclass
+import dataclasses
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -16,25 +17,40 @@ from ..model.curvature import curvature
 from ..model.marks import surface_marks
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
-from ..strokes import crowding as CR
+from ..strokes import cross_field as CF
+from ..strokes import hatch_map as HM
+from ..strokes import grown as GR
+from ..strokes import hatching as HT
 from ..strokes import layers as L
 from ..strokes import smarticles as sm
 from ..strokes import stipples as SP
+from ..strokes import tone as TN
 from ..strokes.data import LAYER_OF_KIND, Stroke
+from ..strokes.paper import Paper
+from .framing import size as framing_size, surface_centre
+from ..model.owners import owners
 from ..strokes.style import outline_strokes, view_right
 from ..strokes.visibility import Sight
 
 OUTLINE_LAYERS = tuple(LAYER_OF_KIND.values())
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
-STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii (before its shade's tone)
+STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii, at the darkest tone
+SHADOW_REACH = 4.0          # how far a shadow's ray goes, in the model's support diagonals
+HATCH_RADIUS = 0.7          # a hatching line's radius, in line radii, at the darkest tone
+ORDER = 11                  # the order of marks of one spacing (a salt, model.keyed)
+CHAIN_SALT = 12             # the keys of the strokes started from the feature chains (a salt, model.keyed)
+SHORT_STEPS = 3             # a short stroke's steps each way
+START_STEPS = 4             # Newton steps that put a chain stroke's start, just off its line, onto the surface
 SINGLE_STEPS = 60           # a single stroke's steps, at most
 CHUNK = 1000                # starts per part of a stroke layer (one pipeline step each)
+CHUNK_LINES = 500           # lines of a hatching map per part
 CHUNK_OUTLINES = 40         # outlines per part of the chain strokes
 # Hatching, short strokes and stipples start at marks on the model (model.marks); each
 # layer its own set (a salt), at a spacing in stroke units.
 MARKS = {"hatching": (0, 0.78),
+         "field": (3, 0.5),           # the nodes of the hatching's cross field
          "short": (1, 0.78),
-         "stipples": (2, 0.8)}        # a wandering smarticle draws several dots
+         "stipples": (2, 0.5)}        # a wandering smarticle draws several dots
 
 
 @dataclass(frozen=True)
@@ -53,10 +69,29 @@ class Canvas:
     unit: float
     settled: bool = False
     sight: object = None
+    cache: dict = field(default_factory=dict, compare=False)     # what the layers share (shadows)
 
     def radius(self, st):
         """The radius of the style's lines."""
         return self.line_radius * st.line_width
+
+    def paper(self):
+        """Where the eye sees the model's points (strokes.paper.Paper), about its surface's
+        centre (framing.surface_centre), which moves with the model."""
+        return Paper(self.eye, surface_centre(self.ev))
+
+    def shadows(self, seed):
+        """The light's cast shadows on the model (strokes.tone.Shadows), found at the
+        cross field's nodes once per illustration."""
+        if "shadows" not in self.cache:
+            nodes = field_nodes(self, seed)
+            self.cache["shadows"] = TN.Shadows(self.seen_by(), nodes.points, nodes.normals, self.light,
+                                               SHADOW_REACH * self.ev.scale, MARKS["field"][1] * self.unit)
+        return self.cache["shadows"]
+
+    def seen_by(self):
+        """What hides the marks and casts shadows on them: the sight, or the model alone."""
+        return self.ev if self.sight is None else self.sight
 
 
 def sight(ev, occluders, known=()):
@@ -95,12 +130,17 @@ def marks_of(cv, layer, owners, seed):
     return surface_marks(cv.ev, spacing * cv.unit, int(keyed.combine(seed, salt)), owners)
 
 
+def _on_surface_kind(ev, P, st):
+    """Whether points lie on the style's surface (convex or concave)."""
+    mean = curvature(ev, P)["mean"]
+    return mean > 0 if st.surface == "convex" else mean < 0
+
+
 def starts(ev, marks, st, region):
     """The marks in the region and on the style's surface (all, convex or concave)."""
     keep = np.ones(len(marks), bool) if region is None else region.contains(marks.points)
     if st.surface != "all" and keep.any():
-        mean = curvature(ev, marks.points[keep])["mean"]
-        keep[keep] = mean > 0 if st.surface == "convex" else mean < 0
+        keep[keep] = _on_surface_kind(ev, marks.points[keep], st)
     return marks.take(keep)
 
 
@@ -134,73 +174,181 @@ def mark_parts(cv, sampling, marks, st, region):
     return [m.take(c) for c in _chunks(len(m), CHUNK)]
 
 
-def crowding(cv, centre):
-    """What keeps a hatching layer's strokes from crowding together on the paper (measured
-    at the model's ``centre``), over its parts (strokes.crowding)."""
-    return CR.Crowding(cv.eye, centre, CR.CROWD_GAP * cv.unit)
+def coarse_order(marks, spacing):
+    """The order of marks by their sequences' spacing (model.marks: the first of each
+    primitive's sequence are the coarsest cover of it), so that a layer drawn in parts
+    covers the whole model coarsely first and fills in after."""
+    u = keyed.uniform(marks.keys, ORDER)
+    return np.lexsort((u, marks.index * spacing ** 2 / marks.area))
 
 
-def hatching(cv, sampling, st, region, part, cross=False, crowding=None):
-    """Hatching along the style's flow field (or, with ``cross``, the cross-hatching
-    along its cross field in the darkest part of the shade) from a part's marks, each
-    stroke thinned where it runs into a knot of the layer's strokes so far (``crowding``)."""
-    kw = _common(cv, st, region)
-    kw["crowding"] = crowding
-    rules = sm.StrokeRules(max_steps=st.hatch_steps, region=region, stop_on_curvature_sign=st.surface != "all")
-    step = STEP * cv.unit
-    field = st.cross_field if cross else st.hatch_field
-    paths = _kept(cv, region, field, "hatching", cross, field, tuple(st.hatch_axis), st.hatch_steps,
-                  tuple(sorted(kw["weights"].items())), st.flock_size, st.surface != "all", step)
-    if not cross:
-        return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=field, axis=st.hatch_axis,
-                          lower=st.shade_lower, upper=st.shade_upper, rules=rules, flock_size=st.flock_size,
-                          paths=paths, every_path=cv.settled, **kw)
-    up = 0.5 * (st.shade_lower + st.shade_upper)
-    return L.hatching(cv.ev, part, cv.eye, cv.light, step, field=field, axis=st.hatch_axis,
-                      lower=0.4 * st.shade_lower, upper=up, rules=rules, flock_size=st.flock_size, salt=1,
-                      paths=paths, every_path=cv.settled, **dict(kw, radius=0.5 * cv.radius(st)))
+def ordered_parts(layer):
+    """The parts of a line layer's marks, coarse ones first (:func:`coarse_order`)."""
+    def parts(cv, sampling, marks, st, region):
+        m = starts(cv.ev, marks, st, region)
+        m = m.take(coarse_order(m, MARKS[layer][1] * cv.unit))
+        return [m.take(c) for c in _chunks(len(m), CHUNK)]
+    return parts
+
+
+def field_nodes(cv, seed):
+    """The marks that carry the cross field and tell the cast shadows: made once per model
+    (kept with its evaluator, as the illustration keeps its layers' marks)."""
+    key = ("marks", "field", seed, cv.unit)
+    if key not in cv.ev.memo:
+        cv.ev.memo[key] = marks_of(cv, "field", owners(cv.ev), seed)
+    return cv.ev.memo[key]
+
+
+def cross_field(cv, seed):
+    """The model's smoothed cross field (strokes.cross_field), at its own marks: made once
+    per model (kept with its evaluator, as the marks are)."""
+    key = ("cross field", seed, cv.unit)
+    if key not in cv.ev.memo:
+        nodes = field_nodes(cv, seed)
+        cv.ev.memo[key] = CF.CrossField(cv.ev, nodes.points, nodes.normals, MARKS["field"][1] * cv.unit,
+                                        framing_size(cv.ev))
+    return cv.ev.memo[key]
+
+
+PRINCIPAL = {"dir1": (0.0, "dir1"), "dir2": (0.0, "dir2"), "diagonal": (45.0, "dir1")}
+
+
+def _fields(cv, st, kind, seed):
+    """The flow field and the first headings of a hatching layer along ``kind``: the
+    principal kinds along the smoothed cross field (turned 45 degrees for the diagonal),
+    a stroke keeping to the branch nearest its heading, setting off on the one nearest
+    the principal direction it wants (or its mark's reference direction where the
+    principal directions mean nothing); the others as strokes.layers.direction_field."""
+    if kind not in PRINCIPAL:
+        def heads(P, N, ref):
+            return L.headings(cv.ev, P, kind, ref, st.hatch_axis, cv.eye)
+        return L.direction_field(kind, st.hatch_axis, cv.eye), heads
+    turn, want = PRINCIPAL[kind]
+    field = cross_field(cv, seed)
+
+    def cross(P, N, fallback):
+        d = field.at(P, N, fallback)
+        return CF.turned(d, N, turn) if turn else d
+
+    def flow(P, N, c):
+        return CF.branch(cross(P, N, c["velocity"]), N, c["velocity"])
+
+    def heads(P, N, ref):
+        if len(P) == 0:
+            return np.zeros((0, 3))
+        c = curvature(cv.ev, P)
+        w = np.where(L.isotropic(c)[:, None], ref, c[want])
+        H = CF.branch(cross(P, N, c["dir1"]), N, w)
+        s = np.sign(np.einsum("ij,ij->i", H, ref))
+        return H * np.where(s == 0, 1.0, s)[:, None]
+    return flow, heads
+
+
+def _layer(cv, st, region, seed, share, fields, steps, lines, outlines, field_kind=None):
+    """A line layer of marks (strokes.hatching.Layer) of the style: its ``share`` of the
+    tone, its flow field and first headings (``fields``), its smarticles' ``steps`` each
+    way, the ``lines`` its parts before drew and the visible ``outlines`` that end them
+    (a StrokeSet, whose outline layers count, or strokes)."""
+    if hasattr(outlines, "layers"):
+        outlines = [s for name in OUTLINE_LAYERS for s in outlines.layers.get(name, ())]
+    rules = sm.StrokeRules(max_steps=steps, region=region, stop_on_curvature_sign=st.surface != "all")
+    flow, heads = fields
+    return HT.Layer(cv.ev, cv.paper(), cv.shadows(seed), cv.seen_by(), st.shade_lower, st.shade_upper, st.contrast,
+                    HATCH_RADIUS * cv.radius(st), share, flow, heads, STEP * cv.unit, st.resolved_weights(), rules,
+                    list(outlines), lines if lines is not None else GR.Lines(), st.flock_size)
+
+
+def hatch_map(cv, st, seed, cross=False, marks=None):
+    """The hatching map (strokes.hatch_map) of the model for the style's hatching (or its
+    crossing layer): made once per model and style (kept with its evaluator, as the
+    marks are), seeded by the hatching's ``marks``; one that follows the contour
+    direction is the eye's too."""
+    kind = st.cross_field if cross else st.hatch_field
+    w = st.resolved_weights()
+    width = 2.0 * HATCH_RADIUS * cv.radius(st)
+    key = ("hatch map", cross, kind, tuple(st.hatch_axis), st.hatch_steps, tuple(sorted(w.items())), st.flock_size,
+           st.surface, seed, cv.unit, width, tuple(cv.eye) if kind == "contour" else None)
+    if key not in cv.ev.memo:
+        m = starts(cv.ev, marks, st, None)
+        flow, heads = _fields(cv, st, kind, seed)
+        levels = HM.levels_for(float(TN.coverage(TN.DARKEST, _share(st, cross))))
+        cv.ev.memo[key] = HM.build(cv.ev, m, coarse_order(m, MARKS["hatching"][1] * cv.unit), flow, heads,
+                                   STEP * cv.unit, st.hatch_steps, w, width,
+                                   sm.StrokeRules(stop_on_curvature_sign=st.surface != "all"), st.flock_size,
+                                   levels, None if st.surface == "all" else lambda P: _on_surface_kind(cv.ev, P, st))
+    return cv.ev.memo[key]
+
+
+def _share(st, cross):
+    """The share of the tone a hatching layer gives (strokes.tone.coverage)."""
+    return "rest" if cross else ("first" if st.cross_hatching else "all")
+
+
+def map_parts(cross):
+    """The parts of a hatching layer: its map's lines in chunks (the map made at the
+    layer's first step)."""
+    def parts(cv, sampling, marks, st, region, seed=0):
+        n = len(hatch_map(cv, st, seed, cross, marks))
+        return [np.arange(n)[c] for c in _chunks(n, CHUNK_LINES)]
+    return parts
+
+
+def hatching(cv, sampling, st, region, part, cross=False, lines=None, outlines=(), seed=0):
+    """Hatching along the style's flow field (or, with ``cross``, the crossing layer along
+    its cross field, the rest of the tone): a part's lines of the model's hatching map,
+    each drawn as wide as its tone wants of its level (strokes.hatching.draw), ended at
+    the visible ``outlines``."""
+    layer = _layer(cv, st, region, seed, _share(st, cross), (None, None), st.hatch_steps, lines, outlines)
+    return HT.draw(layer, hatch_map(cv, st, seed, cross), part)
 
 
 def chains_parts(cv, sampling, marks, st, region):
     near = [o for o in sampling.outlines if region is None or region.contains(o.points).any()]
-    features = np.concatenate([o.points for o in near]) if near else np.zeros((0, 3))
-    return [(near[c], features) for c in _chunks(len(near), CHUNK_OUTLINES)]
+    return [(k, near[c]) for k, c in enumerate(_chunks(len(near), CHUNK_OUTLINES))]
 
 
-def chains(cv, sampling, st, region, part, rng):
-    """Strokes started from a part's feature chains (ending at a distance from all the
-    chains near the region)."""
-    outlines, features = part
-    if not outlines:
-        return []
-    return L.chain_strokes(cv.ev, outlines, cv.eye, cv.light, STEP * cv.unit, rng, features=features,
-                           every=st.chain_step, angle=st.chain_angle, field=st.chain_field, axis=st.hatch_axis,
-                           max_distance=st.chain_distance * cv.unit, lower=st.shade_lower,
-                           upper=st.shade_upper, **_common(cv, st, region))
+def chains(cv, sampling, st, region, part, lines=None, outlines=(), seed=0):
+    """Strokes started from a part's feature chains (Smarticles 7.2): from every
+    ``chain_step``-th point, at ``chain_angle`` to the chain along the chain field, into
+    the visible side of a silhouette and both sides of a crease, as far as
+    ``chain_distance``, spaced and ended as hatching is (and the seeds beside them fill
+    the tone in)."""
+    k, chunk = part
+    P, N, H = L.chain_seeds(chunk, cv.eye, st.chain_step, st.chain_angle)
+    # each just off its line, on its side (a point on a silhouette grazes its own surface)
+    P, f, g = project(cv.ev, P + 0.5 * STEP * cv.unit * H, START_STEPS)
+    on = on_surface(f, cv.ev.iso, NEAR_SURFACE)
+    P, N, H = P[on], -g[on] / np.linalg.norm(g[on], axis=1, keepdims=True), H[on]
+    H = H - np.einsum("ij,ij->i", H, N)[:, None] * N
+    keys = keyed.combine(np.full(len(P), seed, np.uint64), k, np.arange(len(P)), CHAIN_SALT)
+    kind = st.chain_field
+    fields = (L.direction_field(kind, st.hatch_axis, cv.eye), None)
+    steps = max(1, int(round(st.chain_distance / STEP)))
+    layer = dataclasses.replace(_layer(cv, st, region, seed, "all", fields, steps, lines, outlines), turning=0.0)
+    return GR.grow(layer, P, N, H, keys, np.arange(len(P)))       # (from the silhouettes themselves)
 
 
-def short(cv, sampling, st, region, part):
-    """Short strokes through a part's marks."""
-    kw = _common(cv, st, region)
-    paths = _kept(cv, region, st.hatch_field, "short", st.hatch_field, tuple(st.hatch_axis),
-                  tuple(sorted(kw["weights"].items())), STEP * cv.unit)
-    return L.short_strokes(cv.ev, part, cv.eye, cv.light, STEP * cv.unit, field=st.hatch_field,
-                           axis=st.hatch_axis, lower=st.shade_lower, upper=st.shade_upper + 0.05, paths=paths,
-                           every_path=cv.settled, **kw)
+def short(cv, sampling, st, region, part, lines=None, outlines=(), seed=0):
+    """Short strokes through a part's marks (and the seeds beside them), spaced and ended
+    as hatching is: the tone's rest over the stipples where the style draws both."""
+    share = "rest" if st.stipples else "all"
+    layer = _layer(cv, st, region, seed, share, _fields(cv, st, st.hatch_field, seed), SHORT_STEPS, lines, outlines)
+    return GR.from_marks(layer, part, np.arange(len(part)))
 
 
-def stipples(cv, sampling, st, region, part, drawn=(), spacing=None, lines=()):
-    """Stipples from a part's wandering smarticles, apart from each other and from the
-    dots the parts before kept (``spacing``, strokes.stipples.Spacing) and drew
-    (``drawn``), and finer where they come near the ``lines`` drawn (the visible
-    outlines: a StrokeSet, whose outline layers count, or strokes)."""
+def stipples(cv, sampling, st, region, part, dots=None, lines=(), seed=0):
+    """Stipples from a part's wandering smarticles, apart on the paper from each other
+    and from the dots the parts before drew (``dots``, strokes.stipples.Dots), and finer
+    where they come near the ``lines`` drawn (the visible outlines: a StrokeSet, whose
+    outline layers count, or strokes)."""
     if hasattr(lines, "layers"):
         lines = [s for name in OUTLINE_LAYERS for s in lines.layers.get(name, ())]
     step = 0.5 * STEP * cv.unit
-    return SP.stipples(cv.ev, part, cv.eye, cv.light, step, every=st.stipple_every,
-                      lower=0.8 * st.shade_lower, upper=0.92 * st.shade_upper, radius=STIPPLE_RADIUS * cv.radius(st),
-                      region=region, contrast=st.contrast, paths=_kept(cv, region, "dir1", "stipples", step),
-                      every_path=cv.settled, drawn=drawn, spacing=spacing, sight=cv.sight, lines=lines)
+    return SP.stipples(cv.ev, part, cv.paper(), cv.shadows(seed), step, st.shade_lower, st.shade_upper, st.contrast,
+                       radius=STIPPLE_RADIUS * cv.radius(st), every=st.stipple_every, region=region,
+                       paths=_kept(cv, region, "dir1", "stipples", step), every_path=cv.settled, dots=dots,
+                       sight=cv.sight, lines=lines, share="first" if st.short else "all")
 
 
 def single_stroke(cv, st, point, seed=0):

@@ -7,7 +7,7 @@ shoulder's contour runs along it), and else the shorter its stretch along the lo
 the line."""
 import numpy as np
 
-from ..blackboard.board import pairs_within
+from ..blackboard.cells import pairs_within
 from .data import Stroke
 
 DOUBLED = 1.5           # two outline strokes this many line widths apart on the paper, or closer, ...

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model import keyed
-from ..model.curvature import curvature
+from ..model.curvature import curvature, tangent_basis
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..agents import steering as st
@@ -38,6 +38,7 @@ class StrokeRules:
     region: object = None                  # agents.Region or None
     feature_points: object = None          # (m, 3) points of the feature lines, or None
     max_feature_distance: float = np.inf   # containment around those feature lines
+    stop: object = None                    # a further rule: stop(ids, before, after, normals) -> (ends, values)
 
 
 @dataclass
@@ -45,10 +46,11 @@ class Run:
     paths: list = field(default_factory=list)      # (k, 3) arrays
     normals: list = field(default_factory=list)
     reasons: list = field(default_factory=list)
+    values: list = field(default_factory=list)     # (k,) arrays: what a further rule measured at each point
 
 
 def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, separation_radius=None,
-        headings=None, target=None, path=None):
+        headings=None, target=None, path=None, start_values=None, bends=True):
     """Trace one path per start. ``direction_field(P, normals, curv) -> (n,3)`` gives
     the flow field (e.g. a principal direction; ``curv["velocity"]`` is the current
     heading, for fields that keep it). ``keys`` (n,) are the smarticles' own keys
@@ -67,7 +69,9 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
     flock = np.zeros(n, int) if flock is None else np.asarray(flock)
     P, f, g = project(ev, P, START_STEPS)
     N = -st.unit(g)
-    c = curvature(ev, P, g)
+    bends = bends or rules.stop_on_curvature_sign
+    carried = CARRIED if bends else ()
+    c = curvature(ev, P, g) if bends else {"dir1": tangent_basis(N)[0]}
     c["velocity"] = np.zeros_like(P)
     V = np.array(direction_field(P, N, c) if headings is None else headings, float).reshape(n, 3)
     T = st.tangent(V, N)
@@ -76,11 +80,12 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
     T[flat] = c["dir1"][flat]
     V = st.unit(T)
     start_n = N.copy()
-    start_sign = np.sign(c["mean"])
+    start_sign = np.sign(c["mean"]) if bends else None
     alive = on_surface(f, ev.iso, NEAR_SURFACE)        # a start that did not reach the surface draws nothing
     # the points (and normals) kept, a batch a step: whose they are, in step order
     first = np.flatnonzero(alive)
     owner, points, normals = [first], [P[first]], [N[first]]
+    values = [np.zeros(n)[first] if start_values is None else np.asarray(start_values, float)[first]]
     reasons = np.where(alive, "", "lost surface").astype(object)
     lengths = np.zeros(n)
     sep_r = separation_radius if separation_radius is not None else 2 * step
@@ -89,11 +94,11 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
         if len(idx) == 0:
             break
         p, v, nn = P[idx], V[idx], N[idx]
-        cur = {key: c[key][idx] for key in CARRIED}
+        cur = {key: c[key][idx] for key in carried}
         cur.update(normal=nn, velocity=v)
-        forces = {"flow": st.flow(direction_field(p, nn, cur), v)}
+        forces = {"flow": st.flow(direction_field(p, nn, cur), v)} if weights.get("flow", 0) else {}
         if weights.get("wander", 0):
-            forces["wander"] = st.wander(v, nn, _noise(keys[idx], k, cur["dir1"], nn, v))
+            forces["wander"] = st.wander(v, nn, _noise(keys[idx], k, nn, v))
         if weights.get("seek", 0):
             if target is None:
                 raise ValueError("the seek behaviour needs a target")
@@ -113,7 +118,7 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
         newp, newv = st.integrate(p, v, F, 1.0, step)
         newp, fq, gq = _onto(ev, newp)
         nq = -st.unit(gq)
-        cq = curvature(ev, newp, gq)
+        cq = curvature(ev, newp, gq) if bends else None
         stop = np.zeros(len(idx), bool)
         why = np.array([""] * len(idx), object)
         ang = np.arccos(np.clip(np.einsum("ij,ij->i", nq, start_n[idx]), -1, 1))
@@ -139,6 +144,14 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
         m = ~on_surface(fq, ev.iso, NEAR_SURFACE) & ~stop
         stop |= m
         why[m] = "lost surface"
+        val = np.zeros(len(idx))
+        if rules.stop is not None:
+            ends, measured = rules.stop(idx, p, newp, nq)
+            m = np.asarray(ends, bool) & ~stop
+            stop |= m
+            why[m] = "rule"
+            if measured is not None:
+                val = np.asarray(measured, float)
         ended = idx[stop]
         alive[ended] = False               # the terminating point is not included
         reasons[ended] = why[stop]
@@ -146,22 +159,25 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
         owner.append(go)
         points.append(newp[~stop])
         normals.append(nq[~stop])
+        values.append(val[~stop])
         P[go], V[go], N[go] = newp[~stop], st.tangent(newv[~stop], nq[~stop]), nq[~stop]
         lengths[go] += seg[~stop]
-        for key in CARRIED:
+        for key in carried:
             c[key][go] = cq[key][~stop]
     owner = np.concatenate(owner)
     order = np.argsort(owner, kind="stable")    # path by path, each in step order
     ends = np.cumsum(np.bincount(owner, minlength=n)).tolist()
     spans = list(zip([0] + ends[:-1], ends))
     P, N = np.concatenate(points)[order], np.concatenate(normals)[order]
+    V = np.concatenate(values)[order]
     out.paths = [P[a:b] for a, b in spans]
     out.normals = [N[a:b] for a, b in spans]
+    out.values = [V[a:b] for a, b in spans]
     out.reasons = [r or "steps" for r in reasons.tolist()]
     return out
 
 
-def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flock=None, headings=None):
+def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flock=None, headings=None, bends=True):
     """:func:`run`, with the paths of the keys found in ``paths`` (a dict key -> (path,
     normals, reason), or None) taken from it and the others run and put in it: a
     smarticle's path depends on its key, its start and heading and the model alone for
@@ -169,7 +185,7 @@ def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flo
     per set of rules). A flock's members are all kept or all run (their keys come and go
     together)."""
     if paths is None:
-        return run(ev, starts, direction_field, step, weights, rules, keys, flock=flock, headings=headings)
+        return run(ev, starts, direction_field, step, weights, rules, keys, flock=flock, headings=headings, bends=bends)
     keys = np.asarray(keys, np.uint64)
     ids = keys.tolist()
     todo = np.array([k not in paths for k in ids], bool)
@@ -177,7 +193,7 @@ def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flo
         P = np.asarray(starts, float).reshape(-1, 3)
         got = run(ev, P[todo], direction_field, step, weights, rules, keys[todo],
                   flock=None if flock is None else np.asarray(flock)[todo],
-                  headings=None if headings is None else np.asarray(headings, float)[todo])
+                  headings=None if headings is None else np.asarray(headings, float)[todo], bends=bends)
         for k, p, n, r in zip(keys[todo].tolist(), got.paths, got.normals, got.reasons):
             paths[k] = (p, n, r)
     return kept(paths, keys)
@@ -205,12 +221,12 @@ WANDER = 7              # the salt of the wander's noise (model.keyed)
 CARRIED = ("mean", "k1", "k2", "dir1", "dir2")      # the curvature a flow field may read
 
 
-def _noise(keys, k, dir1, normals, vel):
-    """Each smarticle's standard normal 3-vector for step k, in its own frame (the
-    principal direction along its heading, the other one, the normal): the same
-    relative to the surface wherever the surface is moved or turned."""
+def _noise(keys, k, normals, vel):
+    """Each smarticle's standard normal 3-vector for step k, in its own frame (its
+    heading, the direction across it on the surface, the normal): the same relative to
+    the surface wherever the surface is moved or turned."""
     z = keyed.normal(keys, WANDER, k, count=3)
-    d1 = st.unit(st.flow(dir1, vel))
+    d1 = st.unit(st.tangent(vel, normals))
     d2 = cross(normals, d1)
     return z[:, :1] * d1 + z[:, 1:2] * d2 + z[:, 2:] * normals
 

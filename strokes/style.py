@@ -16,8 +16,11 @@ from . import layers as L
 from . import smarticles as sm
 from .data import LAYER_OF_KIND, Stroke, StrokeSet
 from .doubled import undoubled
+from . import tone as TN
+from .tone import lambert
 from .visibility import piece, run_points, split_visible_many
 
+FLOATS = ("shade_lower", "shade_upper", "chain_angle", "chain_distance", "line_width", "contrast")
 LAYER_SWITCHES = ("outlines", "hatching", "stipples", "chains", "short")
 STROKE_SWITCHES = ("hatching", "chains", "short", "stipples")        # the stroke layers, in drawing order
 SURFACES = ("all", "convex", "concave")
@@ -42,16 +45,16 @@ class Style:
     surface: str = "all"                 # start hatching only on convex or concave regions
     weights: object = "hatching"         # preset name or {behaviour: weight}
     flock_size: int = 1                  # > 1: every start spawns a flock of this many
-    shade_lower: float = 0.25
-    shade_upper: float = 0.6
-    hatch_steps: int = 10
+    shade_lower: float = 0.1            # the light below which the ink is darkest (strokes.tone)
+    shade_upper: float = 0.7            # the highlight threshold: above it the paper stays white
+    hatch_steps: int = 20                # a hatching line's steps each way from its seed, at most
     chain_step: int = 3                  # every n-th chain point starts a stroke
     chain_angle: float = 90.0            # degrees between the chain and its strokes
     chain_field: str = "straight"
     chain_distance: float = 3.0          # from the feature line, in stroke units (about a default grid cell)
-    stipple_every: int = 3
+    stipple_every: int = 2
     line_width: float = 1.0              # times the base line radius
-    contrast: float = 1.0                # 0: uniform strokes; 1: radius and opacity follow the shade
+    contrast: float = 1.0                # how much of the tonal range the light spans (strokes.tone)
 
     def check(self):
         """Raise ValueError naming the first bad setting."""
@@ -69,15 +72,23 @@ class Style:
             v = getattr(self, name)
             if not isinstance(v, (int, np.integer)) or isinstance(v, bool) or not lo <= v <= hi:
                 raise ValueError(f"{name} must be a whole number from {lo} to {hi}, got {v!r}")
-        for name, lo, hi in (("shade_lower", 0.0, 1.0), ("shade_upper", 0.0, 1.0), ("chain_angle", -180.0, 180.0),
-                             ("chain_distance", 0.01, 100.0), ("line_width", 0.01, 100.0), ("contrast", 0.0, 1.0)):
+        TN.check(self.shade_lower, self.shade_upper, self.contrast)
+        for name, lo, hi in (("chain_angle", -180.0, 180.0), ("chain_distance", 0.01, 100.0),
+                             ("line_width", 0.01, 100.0)):
             v = getattr(self, name)
             if not isinstance(v, (int, float, np.floating)) or not np.isfinite(v) or not lo <= v <= hi:
                 raise ValueError(f"{name} must be a number from {lo:g} to {hi:g}, got {v!r}")
-        if self.shade_lower > self.shade_upper:
-            raise ValueError(f"shade_lower ({self.shade_lower:g}) must not exceed shade_upper "
-                             f"({self.shade_upper:g})")
         return self
+
+    def rounded(self):
+        """This style with its numbers as Blender keeps them (single precision), so that a
+        style read from a tree and one given on the command line draw alike to the bit
+        (marks spaced by their neighbours hang on every threshold)."""
+        def f32(x):
+            return float(np.float32(x))
+        w = self.weights if isinstance(self.weights, str) else {k: f32(v) for k, v in self.weights.items()}
+        return replace(self, hatch_axis=tuple(f32(x) for x in self.hatch_axis), weights=w,
+                       **{k: f32(getattr(self, k)) for k in FLOATS})
 
     def stroke_switches(self):
         """The stroke layers this style draws, by switch name, in drawing order."""
@@ -88,7 +99,7 @@ class Style:
         if isinstance(w, str):
             if w not in sm.PRESETS:
                 raise ValueError(f"weights preset must be one of {', '.join(sm.PRESETS)}, got {w!r}")
-            return dict(sm.PRESETS[w])
+            return {k: float(np.float32(v)) for k, v in sm.PRESETS[w].items()}
         if not isinstance(w, dict) or not w:
             raise ValueError(f"weights must be a preset name or a dict of behaviour weights, got {w!r}")
         for k, v in w.items():
@@ -104,8 +115,7 @@ STYLES = {
     "outlines": Style(),
     "stippled": Style(stipples=True),                                      # MASSRIS fig. 1, 6
     "hatched": Style(hatching=True),                                       # dir1, cross-hatched diagonally
-    "flocked": Style(hatching=True, cross_hatching=False, weights="flock", flock_size=4,
-                     shade_upper=0.65),                                     # Smarticles fig. 4 (sketching)
+    "flocked": Style(hatching=True, cross_hatching=False, weights="flock", flock_size=4),   # Smarticles fig. 4
     "silhouette-shading": Style(chains=True, chain_step=2),                # Smarticles fig. 3 left
     "short-strokes": Style(short=True, stipples=True),                     # MASSRIS fig. 1 (jug)
     "technical": Style(hatching=True, hatch_field="level", cross_hatching=False),  # horizontal (Smarticles fig. 3 right)
@@ -158,6 +168,13 @@ def canonical(points, closed, eye):
     return np.roll(order, -int(np.argmax(y[order])))
 
 
+def heavier(normals, light, radius, contrast):
+    """An outline's radius along it: heavier on the side turned from the light, from 0.75
+    to 1.25 times ``radius`` at contrast 1 (uniform at 0)."""
+    lit = lambert(normals, light)
+    return radius * (1.0 + 0.5 * float(contrast) * (0.5 - lit))
+
+
 def is_dot(points, radius):
     """Whether a polyline fits in a box whose diagonal is under DOT widths of a line of
     that ``radius`` (then it draws as a dot, not a line)."""
@@ -200,10 +217,7 @@ def outline_strokes(outlines, ev, eye, radius, light=None, contrast=0.0, sight=N
         for seg, seg_n in pieces:
             if o.kind in SPECKLED and np.linalg.norm(np.diff(seg, axis=0), axis=1).sum() < SPECK * o.step:
                 continue
-            if light is None:
-                r = np.full(len(seg), float(radius))
-            else:
-                r, _ = L.tone(L.lighting(seg_n, light), 1.0, radius, 0.5 * contrast)
+            r = np.full(len(seg), float(radius)) if light is None else heavier(seg_n, light, radius, contrast)
             out.add(LAYER_OF_KIND[o.kind], Stroke(seg, r, np.ones(len(seg)), cyclic=whole))
     drawn = [(name, s) for name in DRAWN_TWICE for s in out.layers[name]]
     for name in DRAWN_TWICE:

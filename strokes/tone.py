@@ -19,9 +19,11 @@ ONE_LAYER, by a second, crossing layer that ramps in; stipples by their density 
 """
 import numpy as np
 
-DARKEST = 0.5           # the share of the paper the ink covers at the darkest tone
+from .visibility import hits
+
+DARKEST = 0.4           # the share of the paper the ink covers at the darkest tone
 FLAT = 0.5              # contrast 0: the tone of every point in shade, as a share of DARKEST
-ONE_LAYER = 0.28        # hatching: the tone one layer of lines reaches; darker tones cross it with a second
+ONE_LAYER = 0.28        # the tone the first of two layers reaches (hatching's lines; stipples under short strokes)
 
 
 def lambert(normals, light_dir):
@@ -29,6 +31,59 @@ def lambert(normals, light_dir):
     L = np.asarray(light_dir, float)
     L = L / np.linalg.norm(L)
     return np.maximum(0.0, np.asarray(normals, float).reshape(-1, 3) @ L)
+
+
+def light(sight, P, N, light_dir, reach):
+    """The light of points P (n, 3) with outward normals N: Lambert's, and 0 where a solid
+    of ``sight`` (strokes.visibility.Sight: the model, and the other models of its scene)
+    stands between the point and the sun (a ray marched ``reach`` towards it)."""
+    P, N = np.asarray(P, float).reshape(-1, 3), np.asarray(N, float).reshape(-1, 3)
+    L = np.asarray(light_dir, float) / np.linalg.norm(light_dir)
+    lit = lambert(N, L)
+    facing = np.flatnonzero(lit > 0)
+    if len(facing):
+        towards = P[facing] + float(reach) * L
+        shadowed = np.isfinite(hits(sight, P[facing], towards, N[facing]))
+        lit[facing[shadowed]] = 0.0
+    return lit
+
+
+class Shadows:
+    """Cast shadows of one light on a model, known at nodes (points fixed on the model,
+    ``spacing`` apart) and found between them: a point facing the sun whose nodes within
+    NEAR spacings (facing it too) all agree takes their answer; one between a shadowed
+    and a lit node, or with none near, has its own ray marched (:func:`light`), so a
+    shadow's edge is as sharp as a point's own ray."""
+
+    def __init__(self, sight, points, normals, light_dir, reach, spacing):
+        self.sight, self.reach = sight, float(reach)
+        self.L = np.asarray(light_dir, float) / np.linalg.norm(light_dir)
+        P, N = np.asarray(points, float).reshape(-1, 3), np.asarray(normals, float).reshape(-1, 3)
+        facing = lambert(N, self.L) > 0
+        self.points = P[facing]
+        self.dark = light(sight, P[facing], N[facing], self.L, reach) == 0
+        self.radius = NEAR * float(spacing)
+
+    def light(self, P, N):
+        """Lambert's light of points P with normals N, 0 where they are in a cast shadow."""
+        from ..blackboard.cells import pairs_within
+        P, N = np.asarray(P, float).reshape(-1, 3), np.asarray(N, float).reshape(-1, 3)
+        lit = lambert(N, self.L)
+        facing = np.flatnonzero(lit > 0)
+        if len(facing) == 0:
+            return lit
+        i, j = pairs_within(P[facing], self.points, self.radius)
+        n = len(facing)
+        near = np.bincount(i, minlength=n)
+        dark = np.bincount(i, self.dark[j].astype(float), n)
+        ask = (near == 0) | ((dark > 0) & (dark < near))
+        lit[facing[(near > 0) & (dark == near)]] = 0.0
+        if ask.any():
+            lit[facing[ask]] = light(self.sight, P[facing[ask]], N[facing[ask]], self.L, self.reach)
+        return lit
+
+
+NEAR = 1.5              # node spacings: the nodes about a point that tell whether it is in a cast shadow
 
 
 def check(lower, upper, contrast):
@@ -49,6 +104,22 @@ def tone(light, lower, upper, contrast=1.0):
     ramp = np.clip((upper - light) / (upper - lower), 0.0, 1.0)
     c = float(contrast)
     return np.where(light < upper, DARKEST * ((1.0 - c) * FLAT + c * ramp), 0.0)
+
+
+SHARES = ("all", "first", "rest")
+
+
+def coverage(t, share):
+    """The share of the paper one layer of marks should cover at tone ``t``: all of it,
+    or of two layers drawn over each other the ``first`` all of it up to ONE_LAYER and
+    the ``rest`` what is left, so that the two together cover t
+    (1 - (1 - first)(1 - rest) = t)."""
+    t = np.asarray(t, float)
+    if share == "all":
+        return t
+    if share == "first":
+        return np.minimum(t, ONE_LAYER)
+    return np.where(t > ONE_LAYER, 1.0 - (1.0 - t) / (1.0 - ONE_LAYER), 0.0)
 
 
 def darkness(t):

@@ -17,7 +17,7 @@ def test_voxel_neighbours_stay_those_of_the_hash_as_voxels_are_added():
     voxels the polygonisation missed): after batches in any order, including voxels
     beside earlier ones and duplicates, inside the grid's box and outside it, they are
     exactly what looking up the hash gives."""
-    from blobtree_ink.blackboard.board import _NEIGHBOURS, pack
+    from blobtree_ink.blackboard.cells import _NEIGHBOURS, pack
     grid = Grid(lo=np.zeros(3), cell=np.ones(3), res=(6, 6, 6), field=np.zeros((7, 7, 7)))
     bb = Blackboard(grid, 0.5)
     rng = np.random.default_rng(5)

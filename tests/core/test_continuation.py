@@ -194,21 +194,23 @@ def test_an_illustration_going_on_from_the_last_frame(load_example):
 
 
 def test_a_settled_model_makes_every_marks_path_at_once(load_example):
-    """A frame whose model is the last frame's makes the smarticles' paths of every mark
-    of its marked layers, in shade or not: a next frame whose eye and light moved (other
-    marks in shade) makes none. Its strokes are those a frame alone draws (helpers.same_marked)."""
+    """A frame whose model is the last frame's makes the wandering smarticles' paths of
+    every stipple mark, in shade or not: a next frame whose eye and light moved (other
+    marks in shade) makes none; a hatching map is made once and kept. Its strokes are
+    those a frame alone draws (helpers.same_marked)."""
     model = load_example("pear")
-    for style, layer in (("hatched", "Hatching"), ("short-strokes", "Short Strokes"), ("stippled", "Stipples")):
+    for style, layer, made in (("stippled", "Stipples", "paths"), ("hatched", "Hatching", "hatch map")):
         first = PL.Illustration(job(model, EYE, style), remember=True)
         first.run()
         second = PL.Illustration(job(model, turned(EYE, 0.05), style), previous=first.continuation(), remember=True)
         second.run()
         assert not first.canvas.settled and second.canvas.settled and second.ev is first.ev
-        kept = {k: len(v) for k, v in second.ev.memo.items() if k[0] == "paths"}
+        kept = {k: v if made == "hatch map" else len(v) for k, v in second.ev.memo.items() if k[0] == made}
+        assert kept
         eye, light = turned(EYE, 0.4), (0.5, -0.2, 0.8)
         third = PL.Illustration(job(model, eye, style, light), previous=second.continuation(), remember=True)
         res = third.run()
-        assert {k: len(v) for k, v in third.ev.memo.items() if k[0] == "paths"} == kept
+        assert {k: v if made == "hatch map" else len(v) for k, v in third.ev.memo.items() if k[0] == made} == kept
         alone = PL.Illustration(job(model, eye, style, light)).run()
         a, b = res.strokes.layers[layer], alone.strokes.layers[layer]
         same_marked(a, b, layer)

@@ -181,9 +181,8 @@ def test_principal_strokes_do_not_kink_where_the_principal_directions_change_pla
 
 
 def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monkeypatch):
-    """The stipple layer is drawn in parts of its marks; a part's dots keep apart (on
-    the surface and on the paper) from the dots the parts before it drew, not only from
-    each other."""
+    """The stipple layer is drawn in parts of its marks; a part's dots keep apart on the
+    paper from the dots the parts before it drew, not only from each other: none touch."""
     from blobtree_ink.pipeline import layers as LY
     from blobtree_ink.strokes import stipples as L
     monkeypatch.setattr(LY, "CHUNK", 150)
@@ -196,10 +195,7 @@ def test_stipples_drawn_in_parts_keep_apart_across_the_parts(load_example, monke
     P = np.concatenate([s.points for s in dots])
     U, a = L.on_paper(P, [s.radius[0] for s in dots], ill.eye)
     d = np.linalg.norm(U[:, None] - U[None], axis=2) + np.eye(len(U)) * 1e9
-    assert (d >= L.STIPPLE_GAP * (a[:, None] + a[None]) * (1 - 1e-9)).all()
-    # and apart on the surface, at the radii the shade gives them (at least the smallest's)
-    full = LY.STIPPLE_RADIUS * ill.canvas.radius(ill.style) * 0.5      # the smallest the shade makes
-    assert (np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) >= L.STIPPLE_GAP * 2 * full).all()
+    assert (d >= (a[:, None] + a[None]) * (1 - 1e-9)).all()
 
 
 def test_two_eyes_see_the_model_alike_when_close_in_direction_and_distance():

@@ -99,10 +99,11 @@ def test_stop_during_a_layer_keeps_the_layers_before_it(load_example):
 
 
 def test_stop_in_the_middle_of_a_layer_keeps_its_finished_parts(load_example, monkeypatch):
-    """A stroke layer is drawn in parts (chunks of its starts), one per step: a stop
-    keeps the parts drawn so far, and the full run draws the same parts and more."""
+    """A stroke layer is drawn in parts (chunks of its hatching map's lines), one per
+    step: a stop keeps the parts drawn so far, and the full run draws the same parts and
+    more."""
     from blobtree_ink.pipeline import layers as LY
-    monkeypatch.setattr(LY, "CHUNK", 60)
+    monkeypatch.setattr(LY, "CHUNK_LINES", 20)
     full = PL.Illustration(job_for(load_example, "pear", "hatched", requests=[PL.Request("PLACE_STROKES")])).run()
     ill = PL.Illustration(job_for(load_example, "pear", "hatched", requests=[PL.Request("PLACE_STROKES")]))
     while not (ill.stage == "hatching" and ill._part == 3):
@@ -190,7 +191,7 @@ def test_the_progress_figure_counts_each_stage_by_its_share(load_example):
 
 def test_the_hook_holds_a_worker_in_the_middle_of_a_layer(load_example, monkeypatch):
     from blobtree_ink.pipeline import layers as LY
-    monkeypatch.setattr(LY, "CHUNK", 60)
+    monkeypatch.setattr(LY, "CHUNK_LINES", 20)
     RN.HOLD.arm(at=("hatching", 2))
     ill = PL.Illustration(job_for(load_example, "pear", "hatched", requests=[PL.Request("PLACE_STROKES")]))
     r = RN.Runner(ill).start()

@@ -9,7 +9,9 @@ from blobtree_ink.model import keyed
 from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.strokes import layers, smarticles as sm
 from blobtree_ink.strokes import stipples as SP
+from blobtree_ink.strokes import tone as TN
 from blobtree_ink.strokes.data import Stroke
+from blobtree_ink.strokes.paper import Paper
 
 K = math.sqrt(1 - 0.5 ** (1 / 3))
 
@@ -105,101 +107,94 @@ def test_flocking_cohesion_converges_and_separation_keeps_apart():
             assert np.abs(ev.field(p) - 0.5).max() < 1e-9
 
 
-def test_hatching_only_in_shade_and_stipples_are_dots():
+def _shadows(ev, light):
+    """The light's shadows on a model, at marks of its own (strokes.tone.Shadows)."""
+    nodes = surface_marks(ev, 0.05, 3)
+    return TN.Shadows(ev, nodes.points, nodes.normals, light, 4 * ev.scale, 0.05)
+
+
+def test_stipples_are_dots_on_the_surface_facing_the_eye_where_the_tone_wants_ink():
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     marks = surface_marks(ev, 0.03)
     assert len(marks) > 300
     eye = np.array([0.0, -6.0, 0.0])
-    light = (0.0, -1.0, 1.0)
-    strokes = layers.hatching(ev, marks, eye, light, 0.02, field="dir1", lower=0.2, upper=0.5)
-    assert strokes
-    L = np.array(light) / np.linalg.norm(light)
-    ends = []                                       # strokes that end where they leave their share
-    for s in strokes:
-        nn = s.points / K
-        limit = layers.limits([s.mark], 0.2, 0.5)[0]
-        assert 0.5 - layers.FRAYED * 0.3 - 1e-12 <= limit <= 0.5
-        assert (nn @ L).max() <= limit + 1e-9         # shortened where it would leave its share of the shade
-        assert (s.points[:, 1] < 0.05).all()          # only the side facing the eye is drawn
-        assert not s.dots
-        assert s.mark in set(int(k) for k in marks.keys)
-        if (nn @ L).max() > limit - 0.02:
-            ends.append(limit)
-    assert len(ends) >= 10 and np.ptp(ends) > 0.5 * layers.FRAYED * 0.3      # not on one line of light
-    dots = SP.stipples(ev, marks, eye, light, 0.02)
-    assert dots and all(s.dots and len(s.points) == 1 for s in dots)
+    light = np.array([0.0, -1.0, 1.0]) / np.sqrt(2.0)
+    dots = SP.stipples(ev, marks, Paper(eye, (0, 0, 0)), _shadows(ev, light), 0.02, 0.1, 0.7, radius=0.01)
+    assert len(dots) > 100 and all(s.dots and len(s.points) == 1 for s in dots)
     assert len({s.mark for s in dots}) == len(dots)            # every dot its own mark
     P = np.concatenate([s.points for s in dots])
     assert np.abs(ev.field(P) - 0.5).max() < 1e-9
+    N = P / np.linalg.norm(P, axis=1, keepdims=True)
+    assert (P[:, 1] < 0.05).all()                              # only the side facing the eye
+    t = TN.tone(TN.lambert(N, light), 0.1, 0.7)
+    assert (t > 0).all()                                       # none in the highlight
+    # darker, bigger and no sparser: a dark dot covers more of the room its nearest dot leaves
+    R = np.array([s.radius[0] for s in dots])
+    d = np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P))
+    fill = (R / d.min(axis=1)) ** 2
+    dark, light_ = t > 0.8 * TN.DARKEST, t < 0.3 * TN.DARKEST
+    assert dark.sum() > 20 and light_.sum() > 5
+    assert np.median(R[dark]) > 1.5 * np.median(R[light_]) and np.median(fill[dark]) > 2 * np.median(fill[light_])
 
 
-def test_stipples_never_touch_on_the_paper_and_each_dot_keeps_its_own_shade_choice():
-    """Drawn stipples keep apart on the surface and never touch as the eye sees them
-    (near the silhouette they are drawn finer: no dashes or blots of overlapping dots),
-    and in the penumbra each dot is drawn by its own key's draw against its own shade,
-    so a light tone is scattered dots, not whole trails of single smarticles."""
+def test_stipples_never_touch_on_the_paper():
+    """Drawn stipples never touch as the eye sees them, also where the surface turns
+    away and dots apart on the surface crowd on the paper."""
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     marks = surface_marks(ev, 0.03)
     eye = np.array([0.0, -6.0, 0.0])
     light = np.array([0.0, -1.0, 1.0]) / np.sqrt(2.0)
-    lower, upper = 0.2, 0.55
-    dots = SP.stipples(ev, marks, eye, light, 0.02, lower=lower, upper=upper, radius=0.01)
+    dots = SP.stipples(ev, marks, Paper(eye, (0, 0, 0)), _shadows(ev, light), 0.02, 0.1, 0.7, radius=0.01)
     P = np.concatenate([s.points for s in dots])
     R = np.array([s.radius[0] for s in dots])
     U, a = SP.on_paper(P, R, eye)
     d = np.linalg.norm(U[:, None] - U[None], axis=2) + np.eye(len(P)) * 1e9
-    assert (d >= SP.STIPPLE_GAP * (a[:, None] + a[None]) * (1 - 1e-9)).all()
-    smallest = 0.5 * 0.01                       # the radius the shade gives at most contrast, before fitting
-    assert (np.linalg.norm(P[:, None] - P[None], axis=2) + np.eye(len(P)) >= SP.STIPPLE_GAP * 2 * smallest).all()
-    # finer towards the silhouette (the sphere's rim as seen from the eye), full size facing it
-    facing = -P[:, 1] / np.linalg.norm(P, axis=1)
-    assert np.median(R[facing < 0.3]) < 0.8 * np.median(R[facing > 0.8])
-    shade = layers.lighting(P / np.linalg.norm(P, axis=1)[:, None], light)
-    u = keyed.uniform(np.array([s.mark for s in dots], np.uint64), layers.SHADE)
-    p = np.clip((upper - shade) / (upper - lower), 0, 1)
-    assert (u < p).all()
-    penumbra = (p > 0) & (p < 1)
-    assert penumbra.sum() > 50 and (u[penumbra] / p[penumbra]).max() > 0.5
+    assert (d >= (a[:, None] + a[None]) * (1 - 1e-9)).all()
 
 
-def test_spaced_keeps_the_dots_taking_them_one_by_one_in_their_keys_order():
-    """The rounds over all the dots keep what taking them one at a time, highest key
-    first, keeps; a far dot changes nothing; a dot near one drawn before is left out."""
+def test_spaced_keeps_the_points_taking_them_one_by_one_in_their_keys_order():
+    """The rounds over all the points keep what taking them one at a time, highest key
+    first, keeps (each keeping its own reach from points as dense as it or denser); a far
+    point changes nothing; a point near one kept before is left out; ``first`` orders
+    them instead of the keys."""
     rng = np.random.default_rng(3)
-    P = rng.random((400, 3))
-    radii = rng.uniform(0.02, 0.06, 400)
+    P = np.column_stack([rng.random((400, 2)), np.zeros(400)])
+    reach = rng.uniform(0.01, 0.03, 400)
     k = np.arange(400, dtype=np.uint64)
-    keep = SP.spaced(P, radii, k)
-    rank = keyed.uniform(k, SP.SPACING)
-    kept = []
-    for n in np.argsort(-rank):
-        if all(np.linalg.norm(P[n] - P[m]) >= SP.STIPPLE_GAP * (radii[n] + radii[m]) for m in kept):
-            kept.append(n)
-    assert sorted(kept) == np.flatnonzero(keep).tolist() and 30 < len(kept) < 390
-    far = SP.spaced(np.vstack([P, [[50.0, 0, 0]]]), np.append(radii, 0.05), np.arange(401, dtype=np.uint64))
+    keep = SP.spaced(P, reach, k)
+
+    def one_by_one(order):
+        kept = []
+        for n in order:
+            if all(np.linalg.norm(P[n] - P[m]) >= 2 * min(reach[n], reach[m]) for m in kept):
+                kept.append(n)
+        return sorted(kept)
+    assert one_by_one(np.argsort(-keyed.uniform(k, SP.SPACING))) == np.flatnonzero(keep).tolist()
+    assert 30 < keep.sum() < 390
+    order = rng.permutation(400)
+    by_first = SP.spaced(P, reach, k, first=np.argsort(order))
+    assert one_by_one(order) == np.flatnonzero(by_first).tolist()
+    far = SP.spaced(np.vstack([P, [[50.0, 0, 0]]]), np.append(reach, 0.05), np.arange(401, dtype=np.uint64))
     assert (far[:400] == keep).all() and far[400]
     first = int(np.flatnonzero(keep)[0])
-    assert not SP.spaced(P, radii, k, P[first:first + 1] + [1e-3, 0, 0], radii[first:first + 1])[first]
+    assert not SP.spaced(P, reach, k, P[first:first + 1] + [1e-3, 0, 0], reach[first:first + 1])[first]
     assert SP.spaced(np.zeros((0, 3)), np.zeros(0), np.zeros(0, np.uint64)).shape == (0,)
 
 
-def test_a_layers_spacing_holds_its_parts_kept_dots_hidden_ones_too():
-    """A stipple layer drawn in parts keeps each part's dots apart from the dots the
-    parts before kept, seen from the eye or not, so what is kept does not depend on the
-    view: the far side's dots are in the spacing, and a second part at the same marks
+def test_a_stipple_layers_parts_keep_apart_on_the_paper():
+    """A stipple layer drawn in parts keeps each part's dots apart on the paper from the
+    dots the parts before chose (strokes.stipples.Dots): a second part at the same marks
     adds no dot."""
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     marks = surface_marks(ev, 0.03)
     eye = np.array([0.0, -6.0, 0.0])
-    spacing = SP.Spacing()
-    dots = SP.stipples(ev, marks, eye, (0.0, 0.0, -1.0), 0.02, radius=0.01, spacing=spacing)
-    assert dots and len(spacing.points) > len(dots)
-    assert (spacing.points[:, 1] > 0.2).sum() > 20                      # on the side turned from the eye
-    drawn = np.array([s.points[0] for s in dots])
-    assert all(np.min(np.linalg.norm(spacing.points - p, axis=1)) < 1e-12 for p in drawn)
-    n = len(spacing.points)
-    again = SP.stipples(ev, marks, eye, (0.0, 0.0, -1.0), 0.02, radius=0.01, spacing=spacing)
-    assert again == [] and len(spacing.points) == n
+    paper, shadows = Paper(eye, (0, 0, 0)), _shadows(ev, (0.0, 0.0, -1.0))
+    dots = SP.Dots()
+    first = SP.stipples(ev, marks, paper, shadows, 0.02, 0.1, 0.7, radius=0.01, dots=dots)
+    assert first and len(dots.places) >= len(first)
+    n = len(dots.places)
+    again = SP.stipples(ev, marks, paper, shadows, 0.02, 0.1, 0.7, radius=0.01, dots=dots)
+    assert again == [] and len(dots.places) == n
 
 
 def test_fitted_dots_shrink_smoothly_where_they_crowd_on_the_paper():

@@ -12,7 +12,6 @@ from blobtree_ink import pipeline as PL
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.curvature import curvature
-from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.agents import steering as st
 from blobtree_ink.strokes import layers, smarticles as sm, style as ST
 from blobtree_ink.strokes.visibility import split_visible, split_visible_many
@@ -60,12 +59,11 @@ def test_default_light_comes_from_the_viewers_upper_left():
     assert L[0] < -0.3 and L[2] > 0.3 and L[1] < 0        # left, up, towards the viewer
 
 
-def test_tone_darker_is_thicker_and_blacker_and_contrast_zero_is_uniform():
-    r, o = layers.tone(np.array([0.0, 0.3, 0.6]), 0.6, 2.0)
-    assert np.all(np.diff(r) < 0) and np.all(np.diff(o) < 0)
-    assert r[0] == pytest.approx(3.0) and r[-1] == pytest.approx(1.0) and o[0] == 1.0 and o[-1] == pytest.approx(0.35)
-    r, o = layers.tone(np.array([0.0, 0.3, 0.6]), 0.6, 2.0, contrast=0.0)
-    assert np.all(r == 2.0) and np.all(o == 1.0)
+def test_outlines_are_heavier_on_the_side_turned_from_the_light_and_contrast_zero_is_uniform():
+    N = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+    r = ST.heavier(N, (0.0, 0.0, 1.0), 2.0, 1.0)
+    assert r[0] == pytest.approx(1.5) and r[1] == pytest.approx(2.5) and r[2] == pytest.approx(2.5)
+    assert np.all(ST.heavier(N, (0.0, 0.0, 1.0), 2.0, 0.0) == 2.0)
 
 
 def test_contour_field_is_tangent_and_across_the_view(sphere_session):
@@ -116,39 +114,43 @@ def test_feature_distance_ends_a_stroke_without_its_terminating_point():
     assert np.allclose(sm.nearest_distance(np.eye(3), np.eye(3)[:2]), [0, 0, math.sqrt(2)])
 
 
-def test_chain_strokes_start_on_the_silhouette_and_go_to_the_visible_side(sphere_session):
+def test_chain_seeds_start_on_the_silhouette_and_head_to_its_visible_side(sphere_session):
     s, eye = sphere_session
     sil = [o for o in s.outlines() if o.kind == "silhouette"]
-    feat = np.concatenate([o.points for o in sil])
-    step = 0.3 * s.h
-    light = np.array([1.0, 0.0, 0.0])          # the -x half is in shade
-    common = dict(angle=90.0, max_distance=4 * step, lower=0.0, upper=0.05, radius=0.01)
-    dense = layers.chain_strokes(s.ev, sil, eye, light, step, np.random.default_rng(0), every=1, **common)
-    sparse = layers.chain_strokes(s.ev, sil, eye, light, step, np.random.default_rng(0), every=4, **common)
-    assert len(dense) > 20
-    assert 3 < len(dense) / len(sparse) < 5                  # the density step indexes every n-th chain point
-    for stroke in dense:
-        p = stroke.points
-        f = s.ev.field(p)
-        assert np.abs(f - 0.5).max() < 1e-6                   # on the surface
-        assert sm.nearest_distance(p[:1], feat)[0] < 1.5 * step   # starts at the chain
-        assert sm.nearest_distance(p, feat).max() <= 4 * step      # contained around the feature line
-        facing = np.einsum("ij,ij->i", -p / np.linalg.norm(p, axis=1, keepdims=True), p - eye)
-        assert np.all(np.diff(facing) > 0)              # each step turns further towards the viewer
-        assert np.all(p[:, 0] <= 0.05 * K + 1e-9)          # only in the shade
+    P, N, H = layers.chain_seeds(sil, eye, every=1, angle=90.0)
+    sparse, _, _ = layers.chain_seeds(sil, eye, every=4, angle=90.0)
+    assert len(P) > 20 and 3 < len(P) / len(sparse) < 5          # the density step indexes every n-th chain point
+    assert np.allclose(np.einsum("ij,ij->i", H, N), 0, atol=1e-6)   # along the surface
+    assert (np.einsum("ij,ij->i", H, eye - P) > 0).all()         # into the visible side
+    with pytest.raises(ValueError, match="chain density step must be at least 1"):
+        layers.chain_seeds(sil, eye, every=0)
 
 
-def test_short_strokes_are_centred_on_their_marks(sphere_session):
+def test_chain_strokes_start_at_the_silhouette_and_keep_to_the_shade(sphere_session):
+    """Silhouette shading: lines from the silhouette into its visible side, on the
+    surface, in the shade (the lit half has none) and no longer than the chain distance."""
     s, eye = sphere_session
-    marks = surface_marks(s.ev, s.h)
-    step = 0.3 * s.h
-    out = layers.short_strokes(s.ev, marks, eye, np.array([0.0, 0.0, 1.0]), step, steps=3, lower=0.9, upper=0.95)
-    whole = [x for x in out if len(x.points) == 7]
-    assert len(whole) > 10
-    at = {int(k): p for k, p in zip(marks.keys, marks.points)}
-    for x in whole:
-        assert np.linalg.norm(x.points[3] - at[x.mark]) < 1e-6 * s.h      # through its mark
-        assert np.linalg.norm(x.points[0] - x.points[-1]) > 4 * step     # goes both ways
+    light = np.array([1.0, 0.0, 0.0])          # the -x half is in shade
+    out = drawn(s.ev, eye, light, ST.style("silhouette-shading"))
+    strokes = out.layers["Chains"]
+    assert len(strokes) > 10
+    P = np.concatenate([x.points for x in strokes])
+    assert np.abs(s.ev.field(P) - 0.5).max() < 1e-6
+    assert (P[:, 0] < 0.7 * K).all()                                     # (the highlight threshold: 0.7 of the light)
+    sil = np.concatenate([o.points for o in s.outlines() if o.kind == "silhouette"])
+    starts = np.array([x.points[0] for x in strokes])
+    assert (sm.nearest_distance(starts, sil) < 0.05 * K).sum() > 10        # (the others fill in beside them)
+
+
+def test_short_strokes_are_short_and_tone_the_shade(sphere_session):
+    s, eye = sphere_session
+    light = np.array([0.0, 0.0, 1.0])
+    out = drawn(s.ev, eye, light, ST.style("outlines", short=True, outlines=False), outlines=False)
+    strokes = out.layers["Short Strokes"]
+    assert len(strokes) > 20
+    assert max(len(x.points) for x in strokes) <= 2 * PL.layers.SHORT_STEPS + 1
+    P = np.concatenate([x.points for x in strokes])
+    assert np.abs(s.ev.field(P) - 0.5).max() < 1e-6 and (P[:, 2] < 0.7 * K).all()
 
 
 def test_concave_hatching_stays_in_the_concave_region(blend_session):
@@ -156,7 +158,7 @@ def test_concave_hatching_stays_in_the_concave_region(blend_session):
     assert (s.vertex_curvature["mean"] < 0).any()
     light = np.array([0.0, 0.0, 1.0])
     st_ = ST.style("outlines", hatching=True, cross_hatching=False, surface="concave", outlines=False,
-                   shade_lower=1.0, shade_upper=1.0)
+                   shade_lower=0.99, shade_upper=1.0)
     out = drawn(s.ev, eye, light, st_, res=16, outlines=False)
     assert out.count("Silhouette") == 0
     strokes = out.layers["Hatching"]
@@ -200,7 +202,7 @@ def test_an_illustration_is_deterministic_and_tones_every_layer(sphere_session):
         assert a.count(name) > 0 and a.count(name) == b.count(name)
         assert all(np.array_equal(x.points, y.points) for x, y in zip(a.layers[name], b.layers[name]))
     r = np.concatenate([x.radius for x in a.layers["Hatching"]])
-    assert r.min() < 0.7 * r.max()                   # the radius follows the shade
+    assert r.min() < 0.7 * r.max()                   # a light tone's lines are thinner
     sil = np.concatenate([x.radius for x in a.layers["Silhouette"]])
     assert sil.min() < sil.max()                      # heavier on the side turned from the light
 
@@ -260,7 +262,7 @@ def test_an_outline_that_would_draw_as_a_dot_is_left_out():
     (dict(weights={"gravity": 1.0}), "unknown behaviour 'gravity'"),
     (dict(weights={"flow": float("inf")}), "weight flow must be a number from 0 to 100"),
     (dict(hatch_axis=(0, 0, 0)), "hatch_axis must be three finite numbers, not all zero"),
-    (dict(shade_lower=0.8, shade_upper=0.2), r"shade_lower \(0.8\) must not exceed shade_upper"),
+    (dict(shade_lower=0.8, shade_upper=0.2), r"shade_lower \(0.8\) must be below shade_upper \(0.2\)"),
     (dict(colour="red"), "unknown style setting 'colour'"),
 ])
 def test_bad_styles_are_named(change, message):

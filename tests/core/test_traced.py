@@ -5,7 +5,8 @@ import numpy as np
 
 from blobtree_ink.agents import Session, Settings
 from blobtree_ink.agents.traced import consume_crossed
-from blobtree_ink.blackboard.board import KIND_ID, pairs_within
+from blobtree_ink.blackboard.board import KIND_ID
+from blobtree_ink.blackboard.cells import pairs_within
 from blobtree_ink.blackboard.view import View
 
 from test_massris import K, check_on_surface, model_of, run

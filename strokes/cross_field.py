@@ -1,0 +1,133 @@
+"""A smooth cross field on the surface for hatching (Hertzmann and Zorin 2000): the
+principal directions where they are reliable, and a smooth interpolation of them where
+they are not (near umbilics, on flat and spherical parts), so that hatching neither
+zig-zags between the two principal directions nor fans out where they fade.
+
+A cross is four directions at right angles about the normal; it is kept at nodes (the
+model's own marks, so fixed on its parts), each as one of its directions, and compared
+by the angle-times-four trick: a cross at angle a in a tangent frame is exp(4ia), so that
+its four directions are one number. A node's reliability grows with how distinct its
+principal curvatures are (|k1 - k2| over |k1| + |k2|) and how strongly the surface bends
+there against the model's size; smoothing averages each node's cross with its
+neighbours' (those within a radius whose normals agree, carried into its tangent plane),
+the reliable nodes held to their principal directions. The field at any point is the
+weighted mean of the nodes about it, carried into its tangent plane.
+"""
+import numpy as np
+
+from ..blackboard.cells import PointHash, pairs_within
+from ..model.curvature import curvature, tangent_basis
+
+ITERATIONS = 60         # smoothing sweeps
+HOLD = 8.0              # how strongly a fully reliable node keeps its principal directions (per neighbour)
+DISTINCT = (0.04, 0.2)  # (|k1 - k2| / (|k1| + |k2|)): no weight below the first, full weight above the second
+BENT = (0.3, 1.5)       # |k1 - k2| times the model's size: no weight below the first, full above the second
+AGREE = 0.5             # nodes whose normals' cosine is below this are on other sheets: never neighbours
+REACH = 1.6             # the neighbourhood's radius, in node spacings
+GUESS = 0.5            # how strongly a node with no reliable directions keeps the level direction (per neighbour)
+UP = np.array([0.0, 0.0, 1.0])
+
+
+def reliability(c, size):
+    """How much a point's principal directions are to be believed (0..1)."""
+    k1, k2 = np.asarray(c["k1"], float), np.asarray(c["k2"], float)
+    gap = np.nan_to_num(np.abs(k1 - k2))
+    distinct = gap / np.maximum(np.nan_to_num(np.abs(k1) + np.abs(k2)), 1e-300)
+    return _ramp(distinct, *DISTINCT) * _ramp(gap * size, *BENT)
+
+
+def _ramp(x, a, b):
+    t = np.clip((x - a) / (b - a), 0.0, 1.0)
+    return t * t * (3 - 2 * t)
+
+
+def _crosses(D, e1, e2):
+    """exp(4ia) of directions D (n, 3) in the frames (e1, e2), and how much of each lies
+    in the plane (0 for a direction along the normal)."""
+    a, b = np.einsum("ij,ij->i", D, e1), np.einsum("ij,ij->i", D, e2)
+    z = (a + 1j * b) ** 4
+    m = np.abs(z)
+    return np.where(m > 0, z / np.maximum(m, 1e-300), 0.0), np.sqrt(m)
+
+
+def _direction(z, e1, e2):
+    """One direction (unit, in the frames) of the crosses exp(4ia) z."""
+    a = np.angle(z) / 4.0
+    return np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2
+
+
+class CrossField:
+    """The smoothed cross field of a model, at nodes (points and outward normals) ``spacing``
+    apart; ``size``: the model's size (the square root of its surface's area)."""
+
+    def __init__(self, ev, points, normals, spacing, size):
+        self.points = np.asarray(points, float).reshape(-1, 3)
+        self.normals = np.asarray(normals, float).reshape(-1, 3)
+        self.radius = REACH * float(spacing)
+        n = len(self.points)
+        self.e1, self.e2 = tangent_basis(self.normals)
+        if n == 0:
+            self.dirs = np.zeros((0, 3))
+            self.hash = PointHash(self.points, self.radius)
+            return
+        c = curvature(ev, self.points)
+        self.weight = reliability(c, size)
+        # where the principal directions mean nothing, start from (and lean a little to)
+        # the level lines of the model's up: a sphere is hatched round, as artists do
+        level = np.cross(self.normals, np.where(np.abs(self.normals @ UP)[:, None] < 0.99, UP, [1.0, 0.0, 0.0]))
+        d1 = np.where((self.weight > 0)[:, None], np.nan_to_num(c["dir1"]), level)
+        z0, _ = _crosses(d1, self.e1, self.e2)
+        zl, _ = _crosses(level, self.e1, self.e2)
+        i, j = pairs_within(self.points, self.points, self.radius)
+        keep = (i != j) & (np.einsum("ij,ij->i", self.normals[i], self.normals[j]) > AGREE)
+        i, j = i[keep], j[keep]
+        dist = np.linalg.norm(self.points[i] - self.points[j], axis=1)
+        g = (1.0 - (dist / self.radius) ** 2) ** 2
+        degree = np.bincount(i, g, n)
+        degree = np.maximum(degree, 1e-3)
+        dirs = level.copy()               # (the principal directions come in through the held term alone, so
+        for _ in range(ITERATIONS):       # the field is as continuous in them as their reliability)
+            zj, inplane = _crosses(dirs[j], self.e1[i], self.e2[i])
+            total = degree * (HOLD * self.weight * z0 + GUESS * (1.0 - self.weight) * zl)
+            total = total + np.bincount(i, (g * inplane) * zj.real, n) + 1j * np.bincount(i, (g * inplane) * zj.imag, n)
+            some = np.abs(total) > 0
+            dirs[some] = _direction(total[some], self.e1[some], self.e2[some])
+        self.dirs = dirs
+        self.hash = PointHash(self.points, self.radius)
+
+    def at(self, P, N, fallback):
+        """One direction of the cross at points P (n, 3) with outward normals N: the
+        nodes within reach weighed by distance (those on other sheets left out), carried
+        into each point's tangent plane; ``fallback`` (n, 3) where no node is near."""
+        P, N = np.asarray(P, float).reshape(-1, 3), np.asarray(N, float).reshape(-1, 3)
+        out = np.array(fallback, float).reshape(-1, 3)
+        if len(P) == 0 or len(self.points) == 0:
+            return out
+        i, j = self.hash.pairs(P)
+        keep = np.einsum("ij,ij->i", N[i], self.normals[j]) > AGREE
+        i, j = i[keep], j[keep]
+        e1, e2 = tangent_basis(N)
+        zj, inplane = _crosses(self.dirs[j], e1[i], e2[i])
+        dist = np.linalg.norm(P[i] - self.points[j], axis=1)
+        g = (1.0 - (dist / self.radius) ** 2) ** 2 * inplane
+        n = len(P)
+        total = np.bincount(i, g * zj.real, n) + 1j * np.bincount(i, g * zj.imag, n)
+        some = np.abs(total) > 1e-9 * np.maximum(np.bincount(i, g, n), 1e-300)
+        out[some] = _direction(total[some], e1[some], e2[some])
+        return out
+
+
+def branch(cross, normals, along):
+    """Of the four directions of the crosses (one of them: ``cross``), the one nearest
+    ``along`` (n, 3): a heading or a wanted direction."""
+    other = np.cross(normals, cross)
+    a, b = np.einsum("ij,ij->i", cross, along), np.einsum("ij,ij->i", other, along)
+    pick = np.where((np.abs(a) >= np.abs(b))[:, None], cross * np.sign(np.where(a == 0, 1.0, a))[:, None],
+                    other * np.sign(np.where(b == 0, 1.0, b))[:, None])
+    return pick
+
+
+def turned(cross, normals, degrees):
+    """The crosses turned about the normals (45: the diagonals)."""
+    t = np.radians(degrees)
+    return np.cos(t) * cross + np.sin(t) * np.cross(normals, cross)

@@ -1,0 +1,225 @@
+"""Hatching that gives the tone the light asks for (strokes.tone), drawn from the
+model's hatching map (strokes.hatch_map: nested sets of evenly spaced lines fixed on the
+model, Praun et al. 2001's tonal art maps laid on the surface): each point of a line as
+wide as its tone asks of its level, the newest level ramping in (:func:`widths`); and
+what every layer of lines shares (:class:`Layer`: the light, the tone's share, the
+lines' widths and spacing on the paper, the outlines that end them).
+"""
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import tone as TN
+from ..blackboard.cells import pairs_within
+from ..model import keyed
+from .data import Stroke
+from .visibility import piece, run_points, visible_runs
+
+THINNEST = 0.5          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
+SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
+TURNING = 0.08          # a line ends where the surface turns this far from the eye (the cosine of n and the view)
+SHORTEST = 4            # points: a line cut shorter is not drawn (a scrap, not a line)
+
+
+def width(t, radius, contrast):
+    """A line's width (twice its radius) at tone ``t``: ``radius`` at the darkest, down to
+    THINNEST of it in the lightest at contrast 1."""
+    return 2.0 * radius * (1.0 - float(contrast) * (1.0 - THINNEST) * (1.0 - TN.darkness(t)))
+
+
+def spacing(t, share, radius, contrast):
+    """How far apart (in model units, across the line of sight) one layer's lines stand
+    at tone ``t``: their width over their coverage; inf where the layer draws nothing
+    (no coverage, or lines sparser than SPARSEST base widths would give)."""
+    c = TN.coverage(t, share)
+    w = width(t, radius, contrast)
+    with np.errstate(divide="ignore"):
+        d = np.where(c > 0, w / np.maximum(c, 1e-300), np.inf)
+    return np.where(d <= SPARSEST * 2 * radius, d, np.inf)
+
+
+@dataclass
+class Layer:
+    """What one hatching layer is drawn with: the model's evaluator, the paper, the light
+    (strokes.tone.Shadows), what hides the lines (a strokes.visibility.Sight), the tone curve
+    (``lower``, ``upper``, ``contrast``), the lines' ``radius`` at the darkest, the
+    ``share`` of the tone it gives (strokes.tone.coverage), the smarticles' ``flow`` field and first ``headings``
+    (functions of points and normals, and of those and marks' reference directions),
+    their ``step``, ``weights`` and ``rules`` (strokes.smarticles), the visible outlines
+    (strokes) that end lines, the lines drawn (:class:`Lines`), how many smarticles
+    set off from each seed side by side (a flock), and how far from the eye the surface
+    may turn before a line ends (the cosine of the normal and the view)."""
+    ev: object
+    paper: object
+    shadows: object
+    sight: object
+    lower: float
+    upper: float
+    contrast: float
+    radius: float
+    share: str
+    flow: object
+    headings: object
+    step: float
+    weights: dict
+    rules: object
+    outlines: list = field(default_factory=list)
+    drawn: object = None                 # strokes.grown.Lines, for lines grown on the paper
+    flock_size: int = 1
+    turning: float = TURNING
+
+    def tone(self, P, N):
+        return TN.tone(self.shadows.light(P, N), self.lower, self.upper, self.contrast)
+
+    def spacing(self, t):
+        return spacing(t, self.share, self.radius, self.contrast)
+
+
+def _turning(paper, P, N, turning=TURNING):
+    V = paper.eye - np.asarray(P, float)
+    return np.einsum("ij,ij->i", N, V) <= turning * np.linalg.norm(V, axis=1)
+
+
+def _outline_segments(layer):
+    """A test of which steps (their ends' places on the paper) cross a visible outline."""
+    segs = []
+    for s in layer.outlines:
+        p = np.asarray(s.points, float)
+        if s.cyclic and len(p) > 2:
+            p = np.vstack([p, p[:1]])
+        if len(p) > 1:
+            q, _ = layer.paper.place(p)
+            segs.append(np.column_stack([q[:-1, :2], q[1:, :2]]))
+    S = np.concatenate(segs) if segs else np.zeros((0, 4))
+    C, D = S[:, 0:2], S[:, 2:4]
+    mid = np.column_stack([0.5 * (C + D), np.zeros(len(S))])
+    half = 0.5 * np.linalg.norm(D - C, axis=1).max() if len(S) else 0.0
+
+    def crossing(A, B):
+        out = np.zeros(len(A), bool)
+        if len(S) == 0 or len(A) == 0:
+            return out
+        a, b = A[:, :2], B[:, :2]
+        m = np.column_stack([0.5 * (a + b), np.zeros(len(a))])
+        i, j = pairs_within(m, mid, half + 0.5 * np.linalg.norm(b - a, axis=1).max() + 1e-12)
+        if len(i):
+            r, s = b[i] - a[i], D[j] - C[j]
+            den = r[:, 0] * s[:, 1] - r[:, 1] * s[:, 0]
+            q = C[j] - a[i]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                u = (q[:, 0] * s[:, 1] - q[:, 1] * s[:, 0]) / den
+                v = (q[:, 0] * r[:, 1] - q[:, 1] * r[:, 0]) / den
+            hit = (den != 0) & (u >= 0) & (u <= 1) & (v >= 0) & (v <= 1)
+            out[i[hit]] = True
+        return out
+    return crossing
+
+
+FRAY_SALT = 13          # where a line too thin for its tone's width is drawn at the thinnest (a salt, model.keyed)
+
+
+def draw(layer, hmap, lines=None):
+    """A frame's hatching from a hatching map (strokes.hatch_map) of the lines ``lines``
+    (numbers; default all): each point of a line drawn as wide as the tone wants of its
+    level (:func:`widths`), the lines split where they leave the tone, turn from the
+    eye, leave the region, cross a visible outline or go out of sight."""
+    which = np.arange(len(hmap)) if lines is None else np.asarray(lines, np.int64)
+    sizes = hmap.sizes()[which]
+    rows = np.concatenate([np.arange(a, a + n) for a, n in zip(hmap.start[which], sizes)]) if len(which) else \
+        np.zeros(0, np.int64)
+    if len(rows) == 0:
+        return []
+    P, N = hmap.points[rows], hmap.normals[rows]
+    line = np.repeat(which, sizes)
+    first = np.cumsum(sizes) - sizes
+    local = np.arange(len(P)) - np.repeat(first, sizes)
+    T = _tangents(P, first, sizes)
+    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line])
+    drawn = w > 0
+    if layer.rules.region is not None:
+        drawn &= layer.rules.region.contains(P)
+    crossing = _outline_segments(layer)
+    q = layer.paper.place(P)[0]
+    cut = np.zeros(len(P), bool)                        # a step into the point crosses a visible outline
+    inner = local > 0
+    cut[inner] = crossing(q[np.flatnonzero(inner) - 1], q[inner])
+    runs = _runs(drawn, cut, first, sizes)
+    if not runs:
+        return []
+    pieces = [np.arange(a, b) for a, b in runs]
+    psizes = np.array([len(x) for x in pieces])
+    idx = np.concatenate(pieces)
+    r = 0.5 * w[idx] / scale[idx]
+    out = []
+    at = np.cumsum(psizes) - psizes
+    for k, vis in enumerate(visible_runs(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
+        for run in vis:
+            run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
+            pts = run_points(P[idx], run)
+            if len(pts) >= 2:
+                out.append(Stroke(pts, piece(r, run), np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
+    return out
+
+
+def widths(layer, hmap, P, N, T, level, key):
+    """How wide (on the paper) each point of a map's lines is drawn, and the paper's scale
+    there. Level 0's lines stand ``hmap.spacing`` apart on the surface, so S0 = spacing
+    times how much the paper stretches a length across the line; a line is at most W =
+    the layer's widest (twice its ``radius``) on the paper. The tone's coverage c wants
+    lines of width c S0 at level 0; where that exceeds W the levels come in one by one:
+    at lam = log2(c S0 / W) between m and m + 1 the levels up to m are drawn W wide and
+    level m + 1 (2^(lam - m) - 1) W wide, so that the coverage is c and grows smoothly;
+    past the last level every line widens. A line thinner than THINNEST of W is drawn
+    THINNEST W wide where its key's number says (as often as its width asks), else not."""
+    facing = ~_turning(layer.paper, P, N)
+    t = np.zeros(len(P))
+    t[facing] = layer.tone(P[facing], N[facing])
+    c = TN.coverage(t, layer.share)
+    q, scale = layer.paper.place(P)
+    across = np.cross(N, T)
+    eps = 1e-3 * hmap.spacing
+    stretch = np.linalg.norm(layer.paper.place(P + eps * across)[0] - q, axis=1) / eps / np.maximum(scale, 1e-300)
+    W = 2.0 * layer.radius * scale
+    S0 = hmap.spacing * stretch * scale
+    with np.errstate(divide="ignore"):
+        lam = np.log2(np.maximum(c * S0, 1e-300) / W)
+    last = hmap.levels - 1
+    m = np.clip(np.ceil(lam) - 1, 0, last)
+    w = np.where(level <= m, W, np.where(level == m + 1, (np.exp2(lam - m) - 1.0) * W, 0.0))
+    w = np.where(lam <= 0, np.where(level == 0, c * S0, 0.0), w)
+    w = np.where(lam > last, np.exp2(lam - last) * W, w)        # past the last level: wider
+    thin = THINNEST * W
+    u = keyed.uniform(np.asarray(key, np.uint64), FRAY_SALT)
+    w = np.where(w < thin, np.where(u * thin < w, thin, 0.0), w)
+    return np.where(facing & (c > 0), w, 0.0), scale
+
+
+def _tangents(P, first, sizes):
+    """Each point's direction along its line (central differences, one-sided at the ends)."""
+    nxt = np.arange(len(P)) + 1
+    prv = np.arange(len(P)) - 1
+    last = first + sizes - 1
+    nxt[last] = last
+    prv[first] = first
+    T = P[nxt] - P[prv]
+    return T / np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
+
+
+def _runs(drawn, cut, first, sizes):
+    """The (start, end) rows of the drawn runs of each line, split where a step crosses
+    an outline, at least SHORTEST points long."""
+    go = drawn.copy()
+    brk = np.zeros(len(go) + 1, bool)
+    brk[first] = True
+    brk[np.flatnonzero(cut)] = True
+    out = []
+    d = np.diff(np.concatenate([[0], go.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    for a, b in zip(starts.tolist(), ends.tolist()):
+        # split at line starts and cuts inside [a, b)
+        inner = np.flatnonzero(brk[a + 1:b]) + a + 1
+        bounds = [a] + inner.tolist() + [b]
+        for x, y in zip(bounds[:-1], bounds[1:]):
+            if y - x >= SHORTEST:
+                out.append((x, y))
+    return out
