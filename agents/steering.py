@@ -77,37 +77,46 @@ def containment(P, V, region, ahead):
     return np.where(out[:, None], unit(centre - P), 0.0)
 
 
+def _groups(flock):
+    """Each smarticle's flock as 0..m-1, and the flocks' sizes."""
+    ids, inv = np.unique(np.asarray(flock), return_inverse=True)
+    return inv.ravel(), np.bincount(inv.ravel(), minlength=len(ids))
+
+
+def _mean(X, inv, sizes):
+    return np.stack([np.bincount(inv, X[:, k], len(sizes)) for k in range(X.shape[1])], axis=1) / sizes[:, None]
+
+
 def separation(P, flock, radius):
-    """Steer away from flockmates closer than radius (weighted by inverse distance)."""
+    """Steer away from flockmates closer than radius (weighted by inverse distance):
+    the pairs of one flock, all flocks at once."""
     out = np.zeros_like(P)
-    for g in np.unique(flock):
-        idx = np.flatnonzero(flock == g)
-        if len(idx) < 2:
-            continue
-        d = P[idx, None, :] - P[None, idx, :]
-        dist = np.linalg.norm(d, axis=2)
-        near = (dist > 0) & (dist < radius)
-        w = np.where(near, 1.0 / np.maximum(dist, 1e-12) ** 2, 0.0)
-        out[idx] = (d * w[:, :, None]).sum(1)
+    inv, sizes = _groups(flock)
+    order = np.argsort(inv, kind="stable")
+    start = np.cumsum(sizes) - sizes
+    k = sizes[inv[order]]                                    # each one's flock's size, in flock order
+    a = np.repeat(order, k)                                  # each member with every member of its flock
+    first = np.repeat(start[inv[order]], k)
+    b = order[first + np.arange(len(a)) - np.repeat(np.cumsum(k) - k, k)]
+    d = P[a] - P[b]
+    dist = np.linalg.norm(d, axis=1)
+    near = (a != b) & (dist > 0) & (dist < radius)
+    w = 1.0 / np.maximum(dist[near], 1e-12) ** 2
+    np.add.at(out, a[near], d[near] * w[:, None])
     return out
 
 
 def alignment(V, flock):
     """Steer towards the flock's mean heading."""
-    out = np.zeros_like(V)
-    for g in np.unique(flock):
-        idx = np.flatnonzero(flock == g)
-        out[idx] = unit(V[idx]).mean(0) - unit(V[idx])
-    return out
+    inv, sizes = _groups(flock)
+    U = unit(V)
+    return _mean(U, inv, sizes)[inv] - U
 
 
 def cohesion(P, flock):
     """Steer towards the flock's centre."""
-    out = np.zeros_like(P)
-    for g in np.unique(flock):
-        idx = np.flatnonzero(flock == g)
-        out[idx] = P[idx].mean(0) - P[idx]
-    return out
+    inv, sizes = _groups(flock)
+    return _mean(P, inv, sizes)[inv] - P
 
 
 def combine(forces, weights):

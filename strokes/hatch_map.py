@@ -24,7 +24,7 @@ from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from .layers import spawn_flocks
 
-COARSEST = 16.0         # line widths between level 0's lines
+COARSEST = 10.0         # line widths between level 0's lines
 LEVELS = 3              # levels at most, each twice as dense as the one before
 TEST = 0.6              # a growing line stops this share of its level's spacing from another line
 CLEAR = 0.9             # a seed is taken where no line comes within this share of its level's spacing
@@ -34,6 +34,7 @@ GENERATIONS = 2         # rounds of seeds beside the lines of a level, at most
 MOST_POINTS = 60_000   # a map of this many points takes no more lines (its finer levels are left sparser)
 SHORTEST = 4            # points: a line cut shorter is not kept
 BEND = np.cos(np.radians(45.0))     # a line ends where it would turn more than this in a step (a knot of the field)
+WRAP = np.radians(85.0)     # a line ends where its normal has turned this far from its seed's (round a tube)
 AGREE = 0.3             # lines whose normals' cosine is below this are on other sheets: never too close
 ONTO = 3                # Newton steps that put a seed beside a line onto the surface
 SIDE_SALT = 10          # the keys of the seeds beside a line (a salt, model.keyed)
@@ -153,7 +154,7 @@ def _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weigh
     from .stipples import spaced
     clear = ~acc.near(P, N, CLEAR * d)
     ok = np.flatnonzero(clear)
-    ok = ok[spaced(P[ok], np.full(len(ok), 0.5 * d), keys[ok], first=rank[ok])]
+    ok = ok[spaced(P[ok], np.full(len(ok), 0.5 * d * flock_size), keys[ok], first=rank[ok])]   # (flocks side by side)
     if len(ok) == 0:
         return []
     ok = ok[np.argsort(rank[ok], kind="stable")]
@@ -176,11 +177,11 @@ def _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weigh
         last[ids] = step_
         return ends, None
     base = rules or sm.StrokeRules()
-    run_rules = sm.StrokeRules(max_steps=steps, max_normal_angle=base.max_normal_angle,
+    run_rules = sm.StrokeRules(max_steps=steps, max_normal_angle=WRAP,
                                stop_on_curvature_sign=base.stop_on_curvature_sign, stop=stop)
     both = sm.run(ev, np.vstack([P, P]), flow, step, weights, run_rules,
                   np.concatenate([keys, keyed.combine(keys, 1)]), headings=np.vstack([H, -H]), bends=False,
-                  flock=np.concatenate([flock, flock + n]))
+                  flock=np.concatenate([flock, flock + n]), separation_radius=d)     # (a flock keeps its spacing)
     lines = []
     for k in range(n):
         fwd, bwd = both.paths[k], both.paths[n + k]

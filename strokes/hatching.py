@@ -15,7 +15,7 @@ from ..model import keyed
 from .data import Stroke
 from .visibility import piece, run_points, visible_runs
 
-THINNEST = 0.5          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
+THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
 TURNING = 0.08          # a line ends where the surface turns this far from the eye (the cosine of n and the view)
 SHORTEST = 4            # points: a line cut shorter is not drawn (a scrap, not a line)
