@@ -371,20 +371,27 @@ def _segments_2d(strokes, cam):
 
 
 def crossing_figures(ev, cam, tone_strokes, outlines):
-    """outside: tone marks with a point hidden from the eye or off the surface;
+    """outside: tone marks with a point hidden from the eye (but where it goes behind
+    the outline that hides it, within that outline's width) or off the surface;
     crossing: tone marks that cross a visible outline and go on beyond it by more than
     the outline's width (a dot: whose disc reaches that far past the line's middle)."""
     outside = 0
     P = [s.points for s in tone_strokes]
+    L = _segments_2d(outlines, cam)
     if P:
         allP = np.concatenate(P)
         f, g = ev.field_grad(allP)
         off = np.abs(f - ev.iso) / np.maximum(np.linalg.norm(g, axis=1), 1e-300) > 1e-3 * ev.scale
         hid = hidden(ev, cam, allP, slack=5 * MARCH * ev.scale)
+        if hid.any() and len(L):            # a mark that ends where it goes behind: at the outline that hides it
+            xy, _ = cam.pixels(allP[hid], 1024)
+            k = np.flatnonzero(hid)
+            for n, x in zip(k, xy):
+                d = _point_segment(np.repeat(x[None], len(L), 0), L[:, 0:2], L[:, 2:4])
+                hid[n] = not (d <= 2 * L[:, 4]).any()
         bad = off | hid
         sizes = np.array([len(p) for p in P])
         outside = int(np.add.reduceat(bad.astype(int), np.cumsum(sizes) - sizes).astype(bool).sum())
-    L = _segments_2d(outlines, cam)
     crossing = 0
     if len(L) == 0:
         return {"outside": outside, "crossing": 0}

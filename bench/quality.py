@@ -67,7 +67,9 @@ def measure(ev, cam, lit, eye, st, layers, hatch, res, lines):
     out = IM.tone_figures(target, ink, mask, res)
     out.update(IM.dot_figures(cam, layers.get("Stipples", [])))
     first, crossing = hatch
-    fields = [(first, st.hatch_field, st.hatch_axis)] + ([(crossing, st.cross_field, st.hatch_axis)] if crossing else [])
+    fields = [(first, st.hatch_field, st.hatch_axis)]
+    if crossing:
+        fields.append((crossing, st.cross_field, st.hatch_axis))
     out.update(IM.hatch_figures(ev, cam, fields, eye) if first else {"along": math.nan, "ends": 0})
     out.update(IM.crossing_figures(ev, cam, tone_strokes, lines))
     out["strokes"] = len(tone_strokes)

@@ -162,8 +162,11 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
                         fraction=0.0, stage="init")
 
     def _write(self, result):
-        write(ink_object(self.obj_name), result, frame=self.frame)
-        last_run["strokes"] = result.strokes.count()
+        obj = ink_object(self.obj_name)
+        write(obj, result, frame=self.frame)
+        # the drawing's strokes, those the run kept (the outlines a look reuses) too: the
+        # same look on the same view says the same number however it came about
+        last_run["strokes"] = sum(FR.shown_counts(obj, self.frame).values())
 
     def _clear_unfit(self):
         """A look that ran to its end, or was stopped (Esc keeps what it drew), is one

@@ -36,6 +36,7 @@ OUTLINE_LAYERS = tuple(LAYER_OF_KIND.values())
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
 STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii, at the darkest tone
 SHADOW_REACH = 4.0          # how far a shadow's ray goes, in the model's support diagonals
+CROSS_PEN = 0.7             # the crossing layer's widest line, a share of the hatching's
 HATCH_RADIUS = 0.7          # a hatching line's radius, in line radii, at the darkest tone
 ORDER = 11                  # the order of marks of one spacing (a salt, model.keyed)
 CHAIN_SALT = 12             # the keys of the strokes started from the feature chains (a salt, model.keyed)
@@ -245,18 +246,19 @@ def _fields(cv, st, kind, seed):
     return flow, heads
 
 
-def _layer(cv, st, region, seed, share, fields, steps, lines, outlines, field_kind=None):
+def _layer(cv, st, region, seed, share, fields, steps, lines, outlines, pen=1.0):
     """A line layer of marks (strokes.hatching.Layer) of the style: its ``share`` of the
     tone, its flow field and first headings (``fields``), its smarticles' ``steps`` each
     way, the ``lines`` its parts before drew and the visible ``outlines`` that end them
-    (a StrokeSet, whose outline layers count, or strokes)."""
+    (a StrokeSet, whose outline layers count, or strokes), its ``pen`` (a share of
+    HATCH_RADIUS line radii: its widest line)."""
     if hasattr(outlines, "layers"):
         outlines = [s for name in OUTLINE_LAYERS for s in outlines.layers.get(name, ())]
     rules = sm.StrokeRules(max_steps=steps, region=region, stop_on_curvature_sign=st.surface != "all")
     flow, heads = fields
     return HT.Layer(cv.ev, cv.paper(), cv.shadows(seed), cv.seen_by(), st.shade_lower, st.shade_upper, st.contrast,
-                    HATCH_RADIUS * cv.radius(st), share, flow, heads, STEP * cv.unit, st.resolved_weights(), rules,
-                    list(outlines), lines if lines is not None else GR.Lines(), st.flock_size)
+                    pen * HATCH_RADIUS * cv.radius(st), share, flow, heads, STEP * cv.unit, st.resolved_weights(),
+                    rules, list(outlines), lines if lines is not None else GR.Lines(), st.flock_size)
 
 
 def hatch_map(cv, st, seed, cross=False, marks=None):
@@ -266,7 +268,7 @@ def hatch_map(cv, st, seed, cross=False, marks=None):
     direction is the eye's too."""
     kind = st.cross_field if cross else st.hatch_field
     w = st.resolved_weights()
-    width = 2.0 * HATCH_RADIUS * cv.radius(st)
+    width = 2.0 * _pen(cross) * HATCH_RADIUS * cv.radius(st)
     key = ("hatch map", cross, kind, tuple(st.hatch_axis), st.hatch_steps, tuple(sorted(w.items())), st.flock_size,
            st.surface, seed, cv.unit, width, tuple(cv.eye) if kind == "contour" else None)
     if key not in cv.ev.memo:
@@ -278,6 +280,11 @@ def hatch_map(cv, st, seed, cross=False, marks=None):
                                    sm.StrokeRules(stop_on_curvature_sign=st.surface != "all"), st.flock_size,
                                    levels, None if st.surface == "all" else lambda P: _on_surface_kind(cv.ev, P, st))
     return cv.ev.memo[key]
+
+
+def _pen(cross):
+    """The pen of a hatching layer: the crossing layer's is finer (CROSS_PEN)."""
+    return CROSS_PEN if cross else 1.0
 
 
 def _share(st, cross):
@@ -299,7 +306,7 @@ def hatching(cv, sampling, st, region, part, cross=False, lines=None, outlines=(
     its cross field, the rest of the tone): a part's lines of the model's hatching map,
     each drawn as wide as its tone wants of its level (strokes.hatching.draw), ended at
     the visible ``outlines``."""
-    layer = _layer(cv, st, region, seed, _share(st, cross), (None, None), st.hatch_steps, lines, outlines)
+    layer = _layer(cv, st, region, seed, _share(st, cross), (None, None), st.hatch_steps, lines, outlines, _pen(cross))
     return HT.draw(layer, hatch_map(cv, st, seed, cross), part)
 
 

@@ -13,7 +13,7 @@ from . import tone as TN
 from ..blackboard.cells import pairs_within
 from ..model import keyed
 from .data import Stroke
-from .visibility import piece, run_points, visible_runs
+from .visibility import piece, run_points, tone_step, visible_runs
 
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
@@ -152,7 +152,8 @@ def draw(layer, hmap, lines=None):
     r = 0.5 * w[idx] / scale[idx]
     out = []
     at = np.cumsum(psizes) - psizes
-    for k, vis in enumerate(visible_runs(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
+    for k, vis in enumerate(visible_runs(layer.sight, P[idx], psizes, layer.paper.eye, N[idx], grazes=False,
+                                         step=tone_step(layer.sight))):
         for run in vis:
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
             pts = run_points(P[idx], run)

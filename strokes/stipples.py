@@ -15,7 +15,7 @@ from ..model import keyed
 from .data import Stroke
 from .layers import direction_field, headings
 from .paper import close_pairs
-from .visibility import march_step, sight_of, visible
+from .visibility import tone_step, visible
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 
@@ -58,9 +58,10 @@ def stipples(ev, marks, paper, shadows, step, lower, upper, contrast=1.0, radius
              region=None, paths=None, every_path=False, dots=None, sight=None, lines=(), share="all"):
     """Dots at every ``every``-th step of wandering smarticles started at the marks near
     or in shade, and about each step (:func:`around`): of those that face the eye and
-    want ink (strokes.tone: their ``share`` of it, strokes.tone.coverage), taken in their keys' order, each one left out that comes
-    closer on the paper (strokes.paper.Paper) to one taken before, or to the ``dots``
-    drawn by the layer's parts before, than the spacing their tones ask for
+    want ink (strokes.tone: their ``share`` of it, strokes.tone.coverage), taken in
+    their keys' order, each one left out that comes closer on the paper
+    (strokes.paper.Paper) to one taken before, or to the ``dots`` drawn by the layer's
+    parts before, than the spacing their tones ask for
     (:func:`spacing_of`), and each hidden one (then the choice is made again without
     it); each dot sized by its tone (:func:`radius_of`) and finer where it comes near a
     line of ``lines`` (the visible outlines, :func:`fitted`). Each dot's mark is its
@@ -119,8 +120,6 @@ def stipples(ev, marks, paper, shadows, step, lower, upper, contrast=1.0, radius
     return [Stroke(p[None], r[i:i + 1], np.ones(1), dots=True, mark=int(k)) for i, (p, k) in enumerate(zip(D, K))]
 
 
-FINE = 0.5              # a chosen dot's visibility is marched at this share of the usual step (a dot is small:
-                        # a thin sliver of the model in front of it hides it)
 AROUND = 1.0            # steps: the radius about a wandering step where its other dots may fall
 AROUND_TONES = (0.05, 0.2, 0.45)     # tones (shares of the darkest) from which a step has 1, 2, 3 others about it
 
@@ -163,7 +162,7 @@ def _seen_apart(sight, paper, D, N, Q, half, K, dots):
     candidate takes no room on the paper)."""
     hidden = ~_first_in_cells(Q, half, K)
     tested = hidden.copy()
-    step = FINE * march_step(sight_of(sight).ev)
+    step = tone_step(sight)
     while True:
         ok = np.flatnonzero(~hidden)
         chosen = np.zeros(len(D), bool)

@@ -26,6 +26,8 @@ MAX_AHEAD = 32              # samples of one ray a call takes at most
 GRAZE = 3                   # a hit within this many marching steps of a ray's start may be the line's own
                             # grazing surface
 GRAZE_POINTS = 2            # ... and a gap of at most this many such points between visible ones is drawn through
+FINE = 0.5              # a tone mark's rays are marched at this share of the step (a mark is small: a thin
+                        # sliver of the model in front of it hides it; and it need not run on through a graze)
 END_HALVINGS = 5            # bisections of the step where a visible run ends (to 1/32 of the step)
 ONTO_STEPS = 4              # Newton steps that put such an end, on the step's chord, onto the surface
 
@@ -192,16 +194,26 @@ def split_visible_many(sight, polylines, eye, normals=None, min_points=2):
     return visible_runs(sight, P, sizes, eye, Nn, min_points)
 
 
-def visible_runs(sight, P, sizes, eye, normals=None, min_points=2):
+def tone_step(sight):
+    """The step a tone mark's rays are marched at (FINE of the usual)."""
+    return FINE * march_step(sight_of(sight).ev)
+
+
+def visible_runs(sight, P, sizes, eye, normals=None, min_points=2, grazes=True, step=None):
     """:func:`split_visible_many` of polylines given as their points one after the other
-    (``P``, with their ``normals``) and their lengths (``sizes``)."""
+    (``P``, with their ``normals``) and their lengths (``sizes``); without ``grazes`` a
+    short gap at the line's own grazing surface is a gap too (a tone mark is no outline:
+    it need not run on through it), ``step``: the rays' (default march_step)."""
     sight = sight_of(sight)
     sizes = np.asarray(sizes, np.int64)
-    each = hits_each(sight, P, eye, normals)
+    each = hits_each(sight, P, eye, normals, step)
     d = each.min(axis=0)
-    # a graze is the model's own surface, hit before any other solid
-    v = _through_grazes(np.isfinite(d), (each[0] <= GRAZE * march_step(sight.ev)) & (each[0] <= d), sizes)
-    return _ends(sight, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes)
+    if grazes:              # a graze is the model's own surface, hit before any other solid
+        v = _through_grazes(np.isfinite(d), (each[0] <= GRAZE * march_step(sight.ev)) & (each[0] <= d), sizes)
+    else:
+        v = ~np.isfinite(d)
+    return _ends(sight, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes,
+                 None if grazes else step)
 
 
 def _through_grazes(hidden, grazed, sizes):
@@ -222,11 +234,12 @@ def _through_grazes(hidden, grazed, sizes):
     return v
 
 
-def _ends(sight, P, normals, eye, runs, first, sizes):
+def _ends(sight, P, normals, eye, runs, first, sizes, check=None):
     """The runs (per polyline, index ranges) as :class:`Run` s, each end that meets a
     hidden point of its polyline moved to where the line goes behind the surface: the
     step between the two is bisected END_HALVINGS times (on the chord, the normals
-    interpolated), all ends in one batch."""
+    interpolated), all ends in one batch; with ``check`` (a step), an end that the move
+    onto the surface took out of sight again is not moved."""
     P = np.asarray(P, float)
     N = None if normals is None else np.asarray(normals, float)
     ends = []                              # (polyline, run, 0 lead / 1 trail, visible index, hidden index)
@@ -252,6 +265,9 @@ def _ends(sight, P, normals, eye, runs, first, sizes):
         seen = visible(sight, Q, eye, Nq)
         lo, hi = np.where(seen, s, lo), np.where(seen, hi, s)
     X, _, _ = project(sight.ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # off the chord's sag
+    if check is not None:
+        Nx = None if N is None else N[vis]
+        lo = np.where(visible(sight, X, eye, Nx, step=check), lo, 0.0)
     for (k, j, side, _, _), s, x in zip(ends, lo.tolist(), X):
         if s > 0:
             out[k][j] = out[k][j]._replace(trail=s, tail=x) if side else out[k][j]._replace(lead=s, head=x)

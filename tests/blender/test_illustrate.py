@@ -261,3 +261,25 @@ def test_a_tree_error_in_the_sidebar_moves_no_request_or_look_button(ext, exampl
     shown = node()
     assert shown[:len(values)] == values and len(shown) > len(values)
     assert {kind for kind, _ in shown[len(values):]} == {"label"}
+
+
+@pytest.mark.parametrize("preset", ["STIPPLED", "HATCHED"])
+def test_the_same_look_twice_draws_the_same_strokes_and_says_so(example, preset):
+    """A look run again on the same view and settings (its outlines kept the second time)
+    draws the same strokes, bit for bit, and "Last run" says the same count: the
+    drawing's, the outlines it kept too."""
+    from importlib import import_module
+    run = import_module("bl_ext.user_default.blobtree_ink.operators.illustrate").last_run
+    bpy.ops.blobtree_ink.import_json(filepath=example("heart"), preview=False)
+    tree = bpy.data.node_groups["heart"]
+    tree.ink.grid_resolution = 12
+    drawings, counts = [], []
+    for _ in range(2):
+        assert bpy.ops.blobtree_ink.illustrate(tree_name="heart", preset=preset) == {"FINISHED"}
+        layers = ink("heart")
+        drawings.append({k: [np.array([p.position for p in s.points]) for s in v] for k, v in layers.items() if v})
+        counts.append(run["strokes"])
+    a, b = drawings
+    assert {k: len(v) for k, v in a.items()} == {k: len(v) for k, v in b.items()}
+    assert all(np.array_equal(x, y) for k in a for x, y in zip(a[k], b[k]))
+    assert counts[0] == counts[1] == sum(len(v) for v in a.values()) > 100

@@ -21,8 +21,8 @@ sent by xdotool wherever the UI allows. Python set-up (and why) is marked [Pytho
    draw from the scene camera (From Camera is on by default).
 3. F3, "trace feature outlines", Return; the run's end awaited.
 4. F3, "stippled", Return (Object > BlobTree Ink > Looks > Stippled); the end awaited.
-5. The runner's hook armed in the hatching [Python: CHUNK 40, so that the hatching has
-   dozens of parts; held after 20 of them]; F3, "hatched", Return; when the worker holds
+5. The runner's hook armed in the hatching [Python: CHUNK_LINES 5, so that the hatching
+   has dozens of parts; held after 20 of them]; F3, "hatched", Return; when the worker holds
    and its parts are drawn: a screenshot, Escape, the run's end: a stopped look is one
    drawing too, the stippled look's stipples go. Then F3 "hatched" again, to its end
    (the full count). Then the style's hatching switched off [Python] and F3
@@ -58,9 +58,9 @@ SOCKET_RGB = np.array([89, 191, 242])       # the field socket's colour (blobtre
 ENDED = ("done", "stopped", "failed", "tree edited", "cancelled")
 CENTER_X = "1"                              # the second Point's Center X, typed into its field (two
                                             # balls of radius 1 a unit apart: a peanut with a waist)
-HATCH_CHUNK = 40                            # starts per part of the hatching: it has dozens of parts
-HOLD_AT = ("hatching", 20)                  # the worker holds after 20 parts (on this model the first
-                                            # three draw nothing: part 1 would hold it with no hatching)
+HATCH_CHUNK = 5                             # hatching map lines per part of the hatching: it has dozens of parts
+HOLD_AT = ("hatching", 20)                  # the worker holds after 20 parts (a part of lines all in the
+                                            # light draws nothing: part 1 could hold it with no hatching)
 ZOOM_OUT = 6                                # wheel steps out before the camera takes the view
 def node_point(win, region, node, dx, dy):
     """Screen pixels of a point (dx, dy) UI units right of and below a node's top left."""
@@ -274,7 +274,7 @@ def run():
     record(viewport_stipples=len(on_screen["stipples"]))
 
     # --- 5. the hatched look, held in the middle of its hatching, stopped by Esc --------------
-    sys.modules[EXT + ".pipeline.layers"].CHUNK = HATCH_CHUNK
+    sys.modules[EXT + ".pipeline.layers"].CHUNK_LINES = HATCH_CHUNK
     hold = sys.modules[EXT + ".pipeline.runner"].HOLD
     hold.arm(at=HOLD_AT)
     ill.last_run.clear()
