@@ -212,15 +212,15 @@ def cross_field(cv, seed):
     return cv.ev.memo[key]
 
 
-PRINCIPAL = {"dir1": (0.0, "dir1"), "dir2": (0.0, "dir2"), "diagonal": (45.0, "dir1")}
+PRINCIPAL = {"dir1": (0.0, "dir1"), "dir2": (0.0, "dir2"), "diagonal": (45.0, "dir1")}   # (turn, line)
 
 
 def _fields(cv, st, kind, seed):
     """The flow field and the first headings of a hatching layer along ``kind``: the
     principal kinds along the smoothed cross field (turned 45 degrees for the diagonal),
-    a stroke keeping to the branch nearest its heading, setting off on the one nearest
-    the principal direction it wants (or its mark's reference direction where the
-    principal directions mean nothing); the others as strokes.layers.direction_field."""
+    a stroke keeping to the branch nearest its heading, setting off on the field's first
+    line (dir1), the other (dir2) or between them (the diagonal); the others as
+    strokes.layers.direction_field."""
     if kind not in PRINCIPAL:
         def heads(P, N, ref):
             return L.headings(cv.ev, P, kind, ref, st.hatch_axis, cv.eye)
@@ -238,9 +238,10 @@ def _fields(cv, st, kind, seed):
     def heads(P, N, ref):
         if len(P) == 0:
             return np.zeros((0, 3))
-        c = curvature(cv.ev, P)
-        w = np.where(L.isotropic(c)[:, None], ref, c[want])
-        H = CF.branch(cross(P, N, c["dir1"]), N, w)
+        w = field.first_at(P, N, ref)
+        w = np.cross(N, w) if want == "dir2" else w
+        w = CF.turned(w, N, turn) if turn else w
+        H = CF.branch(cross(P, N, w), N, w)
         s = np.sign(np.einsum("ij,ij->i", H, ref))
         return H * np.where(s == 0, 1.0, s)[:, None]
     return flow, heads

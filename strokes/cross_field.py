@@ -26,6 +26,7 @@ AGREE = 0.5             # nodes whose normals' cosine is below this are on other
 REACH = 1.6             # the neighbourhood's radius, in node spacings
 GUESS = 0.5            # how strongly a node with no reliable directions keeps the level direction (per neighbour)
 UP = np.array([0.0, 0.0, 1.0])
+ROUND = 0.5             # below this reliability a node's first line is the one nearer the level line
 
 
 def reliability(c, size):
@@ -41,19 +42,63 @@ def _ramp(x, a, b):
     return t * t * (3 - 2 * t)
 
 
-def _crosses(D, e1, e2):
-    """exp(4ia) of directions D (n, 3) in the frames (e1, e2), and how much of each lies
-    in the plane (0 for a direction along the normal)."""
+def _crosses(D, e1, e2, fold=4):
+    """exp(4ia) of directions D (n, 3) in the frames (e1, e2) (exp(2ia) with ``fold`` 2:
+    of lines), and how much of each lies in the plane (0 for a direction along the normal)."""
     a, b = np.einsum("ij,ij->i", D, e1), np.einsum("ij,ij->i", D, e2)
-    z = (a + 1j * b) ** 4
+    z = (a + 1j * b) ** fold
     m = np.abs(z)
-    return np.where(m > 0, z / np.maximum(m, 1e-300), 0.0), np.sqrt(m)
+    return np.where(m > 0, z / np.maximum(m, 1e-300), 0.0), m ** (2.0 / fold)
 
 
-def _direction(z, e1, e2):
-    """One direction (unit, in the frames) of the crosses exp(4ia) z."""
-    a = np.angle(z) / 4.0
+def _direction(z, e1, e2, fold=4):
+    """One direction (unit, in the frames) of the crosses exp(4ia) z (lines exp(2ia) with
+    ``fold`` 2)."""
+    a = np.angle(z) / fold
     return np.cos(a)[:, None] * e1 + np.sin(a)[:, None] * e2
+
+
+def _labelled(dirs, normals, e1, e2, i, j, g, dir1, level, weight):
+    """Which of each node's two cross lines is the first (n, 3). Where the principal
+    directions mean little (weight below ROUND) it is the line nearer the level line, so
+    that round parts are hatched round; from there it is carried from node to neighbour
+    into the reliable parts, each node taking the line nearer its labelled neighbours'
+    mean, so that the first layer runs on continuously where the principal curvatures
+    trade places (round a bulb's shoulder) instead of turning through a right angle. A
+    reliable part no such node reaches starts at its most reliable node, on the line
+    nearer its principal direction dir1. Pairs (i, j) with weights g."""
+    n = len(dirs)
+    other = np.cross(normals, dirs)
+    zd, _ = _crosses(dirs, e1, e2, 2)             # the two lines are zd and -zd
+    first = _nearer(dirs, other, level)
+    done = weight < ROUND
+    order = np.argsort(-weight, kind="stable")
+    start = 0
+    while True:
+        grew = True
+        while grew:
+            k = ~done[i] & done[j]
+            ii, jj = i[k], j[k]
+            zj, inplane = _crosses(first[jj], e1[ii], e2[ii], 2)
+            total = (np.bincount(ii, g[k] * inplane * zj.real, n) + 1j * np.bincount(ii, g[k] * inplane * zj.imag, n))
+            new = ~done & (np.bincount(ii, minlength=n) > 0)
+            grew = bool(new.any())
+            near_d = (np.conj(zd) * total).real >= 0
+            first[new] = np.where(near_d[new][:, None], dirs[new], other[new])
+            done |= new
+        if done.all():
+            return first
+        while done[order[start]]:
+            start += 1
+        s = order[start]
+        first[s] = _nearer(dirs[s:s + 1], other[s:s + 1], dir1[s:s + 1])[0]
+        done[s] = True
+
+
+def _nearer(a, b, w):
+    """Per row, the line a or b (n, 3) nearer the direction w."""
+    pick = np.abs(np.einsum("ij,ij->i", a, w)) >= np.abs(np.einsum("ij,ij->i", b, w))
+    return np.where(pick[:, None], a, b)
 
 
 class CrossField:
@@ -67,7 +112,7 @@ class CrossField:
         n = len(self.points)
         self.e1, self.e2 = tangent_basis(self.normals)
         if n == 0:
-            self.dirs = np.zeros((0, 3))
+            self.dirs = self.first = np.zeros((0, 3))
             self.hash = PointHash(self.points, self.radius)
             return
         c = curvature(ev, self.points)
@@ -93,12 +138,22 @@ class CrossField:
             some = np.abs(total) > 0
             dirs[some] = _direction(total[some], self.e1[some], self.e2[some])
         self.dirs = dirs
+        self.first = _labelled(dirs, self.normals, self.e1, self.e2, i, j, g, np.nan_to_num(c["dir1"]), level,
+                               self.weight)
         self.hash = PointHash(self.points, self.radius)
 
     def at(self, P, N, fallback):
         """One direction of the cross at points P (n, 3) with outward normals N: the
         nodes within reach weighed by distance (those on other sheets left out), carried
         into each point's tangent plane; ``fallback`` (n, 3) where no node is near."""
+        return self._mean(P, N, fallback, self.dirs, 4)
+
+    def first_at(self, P, N, fallback):
+        """The first of the cross's two lines at points P (n, 3) with outward normals N
+        (the one the first hatching layer follows, its sign meaningless), as :meth:`at`."""
+        return self._mean(P, N, fallback, self.first, 2)
+
+    def _mean(self, P, N, fallback, dirs, fold):
         P, N = np.asarray(P, float).reshape(-1, 3), np.asarray(N, float).reshape(-1, 3)
         out = np.array(fallback, float).reshape(-1, 3)
         if len(P) == 0 or len(self.points) == 0:
@@ -107,24 +162,22 @@ class CrossField:
         keep = np.einsum("ij,ij->i", N[i], self.normals[j]) > AGREE
         i, j = i[keep], j[keep]
         e1, e2 = tangent_basis(N)
-        zj, inplane = _crosses(self.dirs[j], e1[i], e2[i])
+        zj, inplane = _crosses(dirs[j], e1[i], e2[i], fold)
         dist = np.linalg.norm(P[i] - self.points[j], axis=1)
         g = (1.0 - (dist / self.radius) ** 2) ** 2 * inplane
         n = len(P)
         total = np.bincount(i, g * zj.real, n) + 1j * np.bincount(i, g * zj.imag, n)
         some = np.abs(total) > 1e-9 * np.maximum(np.bincount(i, g, n), 1e-300)
-        out[some] = _direction(total[some], e1[some], e2[some])
+        out[some] = _direction(total[some], e1[some], e2[some], fold)
         return out
 
 
 def branch(cross, normals, along):
     """Of the four directions of the crosses (one of them: ``cross``), the one nearest
     ``along`` (n, 3): a heading or a wanted direction."""
-    other = np.cross(normals, cross)
-    a, b = np.einsum("ij,ij->i", cross, along), np.einsum("ij,ij->i", other, along)
-    pick = np.where((np.abs(a) >= np.abs(b))[:, None], cross * np.sign(np.where(a == 0, 1.0, a))[:, None],
-                    other * np.sign(np.where(b == 0, 1.0, b))[:, None])
-    return pick
+    pick = _nearer(cross, np.cross(normals, cross), along)
+    s = np.sign(np.einsum("ij,ij->i", pick, along))
+    return pick * np.where(s == 0, 1.0, s)[:, None]
 
 
 def turned(cross, normals, degrees):
