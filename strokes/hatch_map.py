@@ -35,6 +35,8 @@ MOST_POINTS = 60_000   # a map of this many points takes no more lines (its fine
 SHORTEST = 6            # points: a line cut shorter is not kept (a scrap, not a line)
 BEND = np.cos(np.radians(45.0))     # a line ends where it would turn more than this in a step (a knot of the field)
 WRAP = np.radians(85.0)     # a line ends where its normal has turned this far from its seed's (round a tube)
+FLOCK_APART = 0.5       # flocks' seeds stand half a spacing times the flock size to this power apart: flocks
+                        # overlap (their lines cut where they meet) so that a small part still gets one
 AGREE = 0.3             # lines whose normals' cosine is below this are on other sheets: never too close
 ONTO = 3                # Newton steps that put a seed beside a line onto the surface
 SIDE_SALT = 10          # the keys of the seeds beside a line (a salt, model.keyed)
@@ -154,7 +156,7 @@ def _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weigh
     from .stipples import spaced
     clear = ~acc.near(P, N, CLEAR * d)
     ok = np.flatnonzero(clear)
-    ok = ok[spaced(P[ok], np.full(len(ok), 0.5 * d * flock_size), keys[ok], first=rank[ok])]   # (flocks side by side)
+    ok = ok[spaced(P[ok], np.full(len(ok), 0.5 * d * flock_size ** FLOCK_APART), keys[ok], first=rank[ok])]
     if len(ok) == 0:
         return []
     ok = ok[np.argsort(rank[ok], kind="stable")]

@@ -78,9 +78,10 @@ def test_stipples_follow_the_light_as_blue_noise_that_never_touches(name):
     assert 0.8 * f["mean_tone"] <= f["mean_ink"] <= 1.2 * f["mean_tone"], f        # the ink covers the tone's range
 
 
+@pytest.mark.parametrize("look", ["hatched", "flocked"])
 @pytest.mark.parametrize("name", list(SMALL))
-def test_hatching_follows_the_light_and_its_field_without_fans(name):
-    f = figures(name, "hatched")
+def test_hatching_follows_the_light_and_its_field_without_fans(name, look):
+    f = figures(name, look)
     assert f["marks"] > 100, f
     assert f["tone_r"] >= 0.93, f
     if not math.isnan(f["along"]):                      # (a sphere has no principal directions)
@@ -88,7 +89,8 @@ def test_hatching_follows_the_light_and_its_field_without_fans(name):
     assert f["ends"] <= 14, f
     assert f["evenness"] <= 0.4, f
     assert f["outside"] == 0 and f["crossing"] == 0, f
-    assert 0.8 * f["mean_tone"] <= f["mean_ink"] <= 1.2 * f["mean_tone"], f
+    over = 1.2 if look == "hatched" else 1.3      # (flocks' lines overlap a little where flocks meet)
+    assert 0.8 * f["mean_tone"] <= f["mean_ink"] <= over * f["mean_tone"], f
 
 
 def test_a_cavity_in_shade_gets_its_ink():
