@@ -165,8 +165,8 @@ def draw(layer, hmap, lines=None):
 def widths(layer, hmap, P, N, T, level, key):
     """How wide (on the paper) each point of a map's lines is drawn, and the paper's scale
     there. Level 0's lines stand ``hmap.spacing`` apart on the surface, so S0 = spacing
-    times how much the paper stretches a length across the line; a line is at most W =
-    the layer's widest (twice its ``radius``) on the paper. The tone's coverage c wants
+    times how far apart the paper sets lines a unit apart on the surface (square to
+    them); a line is at most W = the layer's widest (twice its ``radius``) on the paper. The tone's coverage c wants
     lines of width c S0 at level 0; where that exceeds W the levels come in one by one:
     at lam = log2(c S0 / W) between m and m + 1 the levels up to m are drawn W wide and
     level m + 1 (2^(lam - m) - 1) W wide, so that the coverage is c and grows smoothly;
@@ -177,9 +177,13 @@ def widths(layer, hmap, P, N, T, level, key):
     t[facing] = layer.tone(P[facing], N[facing])
     c = TN.coverage(t, layer.share)
     q, scale = layer.paper.place(P)
-    across = np.cross(N, T)
     eps = 1e-3 * hmap.spacing
-    stretch = np.linalg.norm(layer.paper.place(P + eps * across)[0] - q, axis=1) / eps / np.maximum(scale, 1e-300)
+    a = layer.paper.place(P + eps * np.cross(N, T))[0] - q      # a step across the line and one along it, on
+    t = layer.paper.place(P + eps * T)[0] - q                   # the paper: lines a spacing apart stand apart
+    tn = np.linalg.norm(t, axis=1)                              # by its part square to the line there
+    gap = np.where(tn > 1e-9 * eps, np.abs(a[:, 0] * t[:, 1] - a[:, 1] * t[:, 0]) / np.maximum(tn, 1e-300),
+                   np.linalg.norm(a, axis=1))
+    stretch = gap / eps / np.maximum(scale, 1e-300)
     W = 2.0 * layer.radius * scale
     S0 = hmap.spacing * stretch * scale
     with np.errstate(divide="ignore"):
