@@ -28,8 +28,7 @@ from ..blackboard.view import View
 from ..model import Evaluator, key_of
 from ..model.owners import owners
 from ..strokes.data import LAYER_OF_KIND, StrokeSet
-from ..strokes import grown as GR
-from ..strokes.stipples import Dots
+from ..strokes.paper import Placed
 from . import hiding as HD
 from . import layers as LY
 from .continuation import Continuation
@@ -76,8 +75,8 @@ class Illustration:
         self.at = 0                    # the stage being worked on
         self.completed = []            # the stages done (a stop skips the rest)
         self._parts, self._part = None, 0  # a stroke layer's parts, and the next one to draw
-        self._dots = None                  # ... and the stipples drawn so far (strokes.stipples.Dots)
-        self._lines = None                 # ... and the hatching's lines so far (strokes.grown.Lines)
+        self._dots = None                  # ... and the stipples drawn so far (strokes.paper.Placed)
+        self._lines = None                 # ... and the hatching's lines so far (strokes.paper.Placed)
         self.stopping = False
         self.finished = False
         self._fraction = 0.0
@@ -283,7 +282,7 @@ class Illustration:
         """A layer of lines spaced on the paper (strokes.hatching) in parts, its lines so
         far kept over them, ended at the visible outlines."""
         if self._parts is None:
-            self._lines = GR.Lines()
+            self._lines = Placed()
         self._stroke_layer(STYLE_LAYERS[stage], parts, draw, marks, lines=self._lines,
                            outlines=self._drawn_lines(), seed=self.job.seed, **kw)
 
@@ -305,7 +304,7 @@ class Illustration:
 
     def _stipples(self):
         if self._parts is None:
-            self._dots = Dots()            # the layer's dots drawn so far, over its parts
+            self._dots = Placed()          # the layer's dots drawn so far, over its parts
         self._stroke_layer(STYLE_LAYERS["stipples"], LY.mark_parts, LY.stipples, "stipples", dots=self._dots,
                            lines=self._drawn_lines(), seed=self.job.seed)
 

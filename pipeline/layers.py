@@ -26,7 +26,7 @@ from ..strokes import smarticles as sm
 from ..strokes import stipples as SP
 from ..strokes import tone as TN
 from ..strokes.data import LAYER_OF_KIND, Stroke
-from ..strokes.paper import Paper
+from ..strokes.paper import Paper, Placed
 from .framing import size as framing_size, surface_centre
 from ..model.owners import owners
 from ..strokes.style import outline_strokes, view_right
@@ -259,7 +259,7 @@ def _layer(cv, st, region, seed, share, fields, steps, lines, outlines, pen=1.0)
     flow, heads = fields
     return HT.Layer(cv.ev, cv.paper(), cv.shadows(seed), cv.seen_by(), st.shade_lower, st.shade_upper, st.contrast,
                     pen * HATCH_RADIUS * cv.radius(st), share, flow, heads, STEP * cv.unit, st.resolved_weights(),
-                    rules, list(outlines), lines if lines is not None else GR.Lines(), st.flock_size)
+                    rules, list(outlines), lines if lines is not None else Placed(), st.flock_size)
 
 
 def hatch_map(cv, st, seed, cross=False, marks=None):
@@ -347,7 +347,7 @@ def short(cv, sampling, st, region, part, lines=None, outlines=(), seed=0):
 
 def stipples(cv, sampling, st, region, part, dots=None, lines=(), seed=0):
     """Stipples from a part's wandering smarticles, apart on the paper from each other
-    and from the dots the parts before drew (``dots``, strokes.stipples.Dots), and finer
+    and from the dots the parts before drew (``dots``, strokes.paper.Placed), and finer
     where they come near the ``lines`` drawn (the visible outlines: a StrokeSet, whose
     outline layers count, or strokes)."""
     if hasattr(lines, "layers"):

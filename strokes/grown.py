@@ -35,18 +35,6 @@ ONTO = 3                # Newton steps that put a seed beside a line onto the su
 STEPS_OFF = 1 << 20     # (a step from a line's seed, which may be negative, made a key's whole number)
 
 
-class Lines:
-    """The lines one hatching layer drew so far, over its parts: their points' places on
-    the paper and the spacing their tones ask for there."""
-
-    def __init__(self):
-        self.places, self.spacing = np.zeros((0, 3)), np.zeros(0)
-
-    def add(self, places, spacing):
-        self.places = np.vstack([self.places, places])
-        self.spacing = np.concatenate([self.spacing, spacing])
-
-
 def from_marks(layer, marks, order):
     """The layer's lines from a part's marks (in ``order``: lower first) and the seeds
     beside the lines they make, generation after generation, as strokes."""
@@ -85,7 +73,7 @@ def _generation(layer, P, N, H, keys, t, rank, crossing):
     d = layer.spacing(t) * scale
     clear = np.ones(len(P), bool)
     if len(layer.drawn.places):
-        i, _ = close_pairs(Q, CLEAR * 0.5 * d, layer.drawn.places, CLEAR * 0.5 * layer.drawn.spacing)
+        i, _ = close_pairs(Q, CLEAR * 0.5 * d, layer.drawn.places, CLEAR * layer.drawn.reach)
         clear[i] = False
     ok = np.flatnonzero(clear)
     ok = ok[spaced(Q[ok], 0.5 * d[ok], keys[ok], first=rank[ok])]
@@ -93,8 +81,7 @@ def _generation(layer, P, N, H, keys, t, rank, crossing):
         return [], []
     ok = ok[np.argsort(rank[ok], kind="stable")]
     P, N, H, keys, t = P[ok], N[ok], H[ok], keys[ok], t[ok]
-    n = len(P)
-    drawn_hash = _Near(layer.drawn.places, TEST * 0.5 * layer.drawn.spacing)
+    drawn_hash = _Near(layer.drawn.places, TEST * layer.drawn.reach)
 
     def stop(ids, before, after, normals):
         tt = layer.tone(after, normals)
@@ -109,23 +96,11 @@ def _generation(layer, P, N, H, keys, t, rank, crossing):
     rules = sm.StrokeRules(max_steps=layer.rules.max_steps, max_normal_angle=layer.rules.max_normal_angle,
                            stop_on_curvature_sign=layer.rules.stop_on_curvature_sign, region=layer.rules.region,
                            stop=stop)
-    flock = np.arange(n)
+    flock = np.arange(len(P))
     if layer.flock_size > 1:           # each seed a flock, side by side across its heading (Smarticles 4)
         P, H, flock, keys = spawn_flocks(P, N, H, layer.flock_size, layer.spacing(t), keys)
         t = np.repeat(t, layer.flock_size)
-        n = len(P)
-    both = sm.run(layer.ev, np.vstack([P, P]), layer.flow, layer.step, layer.weights, rules,
-                  np.concatenate([keys, keyed.combine(keys, 1)]), headings=np.vstack([H, -H]),
-                  start_values=np.concatenate([t, t]), bends=False, flock=np.concatenate([flock, flock + n]))
-    lines = []
-    for k in range(n):
-        fwd, bwd = both.paths[k], both.paths[n + k]
-        if len(fwd) == 0 or len(bwd) == 0:
-            continue
-        pts = np.vstack([bwd[:0:-1], fwd])
-        nrm = np.vstack([both.normals[n + k][:0:-1], both.normals[k]])
-        tt = np.concatenate([both.values[n + k][:0:-1], both.values[k]])
-        lines.append((k, pts, nrm, tt, len(bwd) - 1))
+    lines = sm.both_ways(layer.ev, P, H, keys, layer.flow, layer.step, layer.weights, rules, flock=flock, values=t)
     return _taken(layer, lines, keys)
 
 
@@ -202,7 +177,7 @@ def _taken(layer, lines, keys):
     T = np.concatenate([t for _, _, t, _ in pieces])
     rel = np.concatenate([np.arange(lo[k], hi[k]) - seed[k] for k, _ in kept]).astype(float)   # steps from the seed
     rows = np.concatenate([np.flatnonzero(owner == k)[lo[k]:hi[k]] for k, _ in kept])
-    layer.drawn.add(Q[rows], d[rows])
+    layer.drawn.add(Q[rows], 0.5 * d[rows])
     r = 0.5 * width(T, layer.radius, layer.contrast)
     at = np.cumsum(sizes) - sizes
     for k, runs in enumerate(visible_runs(layer.sight, P, sizes, layer.paper.eye, N, grazes=False,

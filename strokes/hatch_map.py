@@ -181,18 +181,9 @@ def _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weigh
     base = rules or sm.StrokeRules()
     run_rules = sm.StrokeRules(max_steps=steps, max_normal_angle=WRAP,
                                stop_on_curvature_sign=base.stop_on_curvature_sign, stop=stop)
-    both = sm.run(ev, np.vstack([P, P]), flow, step, weights, run_rules,
-                  np.concatenate([keys, keyed.combine(keys, 1)]), headings=np.vstack([H, -H]), bends=False,
-                  flock=np.concatenate([flock, flock + n]), separation_radius=d)     # (a flock keeps its spacing)
-    lines = []
-    for k in range(n):
-        fwd, bwd = both.paths[k], both.paths[n + k]
-        if len(fwd) == 0 or len(bwd) == 0:
-            continue
-        pts = np.vstack([bwd[:0:-1], fwd])
-        nrm = np.vstack([both.normals[n + k][:0:-1], both.normals[k]])
-        lines.append((pts, nrm, len(bwd) - 1, keys[k]))
-    return _take(acc, lines, d, level)
+    both = sm.both_ways(ev, P, H, keys, flow, step, weights, run_rules, flock=flock,
+                        separation_radius=d)                             # (a flock keeps its spacing)
+    return _take(acc, [(pts, nrm, seed, keys[k]) for k, pts, nrm, _, seed in both], d, level)
 
 
 def _take(acc, lines, d, level):

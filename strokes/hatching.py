@@ -64,7 +64,7 @@ class Layer:
     weights: dict
     rules: object
     outlines: list = field(default_factory=list)
-    drawn: object = None                 # strokes.grown.Lines, for lines grown on the paper
+    drawn: object = None                 # strokes.paper.Placed: the lines grown on the paper so far
     flock_size: int = 1
     turning: float = TURNING
 

@@ -34,6 +34,18 @@ class Paper:
         return np.einsum("ij,ij->i", np.asarray(N, float), self.eye - np.asarray(P, float)) > 0
 
 
+class Placed:
+    """The marks a layer placed so far, over its parts, on the paper: their places and
+    each one's reach (half the spacing its tone asks for there)."""
+
+    def __init__(self):
+        self.places, self.reach = np.zeros((0, 3)), np.zeros(0)
+
+    def add(self, places, reach):
+        self.places = np.vstack([self.places, places])
+        self.reach = np.concatenate([self.reach, reach])
+
+
 BIN = 2.0               # close_pairs sorts reaches into bins this many times wider than the last
 
 

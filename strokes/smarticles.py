@@ -177,6 +177,32 @@ def run(ev, starts, direction_field, step, weights, rules, keys, flock=None, sep
     return out
 
 
+def both_ways(ev, starts, headings, keys, direction_field, step, weights, rules, flock=None, values=None,
+              separation_radius=None):
+    """Smarticles set off from each start both ways (its heading and the opposite, the
+    second's key combined with 1), their two paths joined at the start: per start k whose
+    smarticles both moved, (k, points, normals, values along them or None, the start's
+    row). ``values`` (n,): what each start carries (strokes.smarticles.Run.values)."""
+    P = np.asarray(starts, float).reshape(-1, 3)
+    H = np.asarray(headings, float).reshape(-1, 3)
+    n = len(P)
+    flock = np.arange(n) if flock is None else np.asarray(flock)
+    both = run(ev, np.vstack([P, P]), direction_field, step, weights, rules,
+               np.concatenate([keys, keyed.combine(keys, 1)]), headings=np.vstack([H, -H]), bends=False,
+               flock=np.concatenate([flock, flock + n]), separation_radius=separation_radius,
+               start_values=None if values is None else np.concatenate([values, values]))
+    lines = []
+    for k in range(n):
+        fwd, bwd = both.paths[k], both.paths[n + k]
+        if len(fwd) == 0 or len(bwd) == 0:
+            continue
+        pts = np.vstack([bwd[:0:-1], fwd])
+        nrm = np.vstack([both.normals[n + k][:0:-1], both.normals[k]])
+        val = None if values is None else np.concatenate([both.values[n + k][:0:-1], both.values[k]])
+        lines.append((k, pts, nrm, val, len(bwd) - 1))
+    return lines
+
+
 def run_kept(paths, ev, starts, direction_field, step, weights, rules, keys, flock=None, headings=None, bends=True):
     """:func:`run`, with the paths of the keys found in ``paths`` (a dict key -> (path,
     normals, reason), or None) taken from it and the others run and put in it: a

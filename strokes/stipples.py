@@ -14,7 +14,7 @@ from ..blackboard.cells import pairs_within
 from ..model import keyed
 from .data import Stroke
 from .layers import direction_field, headings
-from .paper import close_pairs
+from .paper import Placed, close_pairs
 from .visibility import tone_step, visible
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
@@ -26,18 +26,6 @@ SMALLEST = 0.3         # at contrast 1 a dot in the lightest tone has this share
 LIGHTEST = 0.01         # a tone under this takes its spacing, with fewer dots (a share of them by chance)
 LIGHT_SALT = 9          # which dots a tone under LIGHTEST keeps (a salt, model.keyed)
 LIGHT_MARGIN = 0.3     # marks lit up to this much above the highlight threshold start smarticles (they wander)
-
-
-class Dots:
-    """The dots a stipple layer chose so far, over its parts, on the paper: their places
-    and their spacing's reach (half the spacing their tone asks for)."""
-
-    def __init__(self):
-        self.places, self.reach = np.zeros((0, 3)), np.zeros(0)
-
-    def add(self, places, reach):
-        self.places = np.vstack([self.places, places])
-        self.reach = np.concatenate([self.reach, reach])
 
 
 def radius_of(t, radius, contrast):
@@ -72,7 +60,7 @@ def stipples(ev, marks, paper, shadows, step, lower, upper, contrast=1.0, radius
     if every < 1:
         raise ValueError(f"the stipple step must be at least 1, got {every}")
     sight = ev if sight is None else sight
-    dots = Dots() if dots is None else dots
+    dots = Placed() if dots is None else dots
     rules = sm.StrokeRules(max_steps=steps, max_normal_angle=np.radians(80), stop_on_curvature_sign=False,
                            region=region)
 

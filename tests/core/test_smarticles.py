@@ -8,6 +8,7 @@ from blobtree_ink import model as M
 from blobtree_ink.model import keyed
 from blobtree_ink.model.marks import surface_marks
 from blobtree_ink.strokes import layers, smarticles as sm
+from blobtree_ink.strokes import paper as PA
 from blobtree_ink.strokes import stipples as SP
 from blobtree_ink.strokes import tone as TN
 from blobtree_ink.strokes.data import Stroke
@@ -183,13 +184,13 @@ def test_spaced_keeps_the_points_taking_them_one_by_one_in_their_keys_order():
 
 def test_a_stipple_layers_parts_keep_apart_on_the_paper():
     """A stipple layer drawn in parts keeps each part's dots apart on the paper from the
-    dots the parts before chose (strokes.stipples.Dots): a second part at the same marks
+    dots the parts before chose (strokes.paper.Placed): a second part at the same marks
     adds no dot."""
     ev = ev_of({"type": "point", "center": [0, 0, 0], "radius": 1.0})
     marks = surface_marks(ev, 0.03)
     eye = np.array([0.0, -6.0, 0.0])
     paper, shadows = Paper(eye, (0, 0, 0)), _shadows(ev, (0.0, 0.0, -1.0))
-    dots = SP.Dots()
+    dots = PA.Placed()
     first = SP.stipples(ev, marks, paper, shadows, 0.02, 0.1, 0.7, radius=0.01, dots=dots)
     assert first and len(dots.places) >= len(first)
     n = len(dots.places)
