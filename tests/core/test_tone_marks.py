@@ -39,11 +39,11 @@ def small(name):
 _seen = {}
 
 
-def scene(name):
-    """A small model seen as bench/quality.py sees one: the evaluator, eye, light, its
-    visible outlines, the camera cut about them and the lit picture."""
+def scene(name, model=None):
+    """A small model (or ``model``) seen as bench/quality.py sees one: the evaluator, eye,
+    light, its visible outlines, the camera cut about them and the lit picture."""
     if name not in _seen:
-        ev = M.Evaluator(small(name))
+        ev = M.Evaluator(small(name) if model is None else model)
         centre, radius = PL.bounds(ev)
         eye = PL.three_quarter_eye(centre, radius)
         light = PL.default_light(centre, eye)
@@ -56,9 +56,10 @@ def scene(name):
     return _seen[name]
 
 
-def figures(name, look):
-    """bench/quality.py's figures of a look of a small model (the strokes beside its outlines)."""
-    ev, eye, light, lines, cam, lit = scene(name)
+def figures(name, look, model=None):
+    """bench/quality.py's figures of a look of a small model (or ``model``: the strokes
+    beside its outlines)."""
+    ev, eye, light, lines, cam, lit = scene(name, model)
     st = ST.style(look)
     layers, hatch, _ = Q.drawing(ev, eye, light, st, lines, 0)
     out, _ = Q.measure(ev, cam, lit, eye, st, layers, hatch, RES, lines)
@@ -94,15 +95,26 @@ def test_hatching_follows_the_light_and_its_field_without_fans(name, look):
 
 
 def test_a_cavity_in_shade_gets_its_ink():
-    """The inside of the cup, in shade, is inked (a subtracted part's hollow has marks)."""
+    """The inside of the cup, in shade, is inked (a subtracted part's hollow has marks),
+    also by strokes from the feature chains (from the rim's crease down its inner wall)."""
     ev, eye, light, lines, cam, lit = scene("cylinder with a cavity")
-    for look in ("stippled", "hatched"):
+    for look in ("stippled", "hatched", "silhouette-shading"):
         job = PL.Job(ev, view=View(eye=eye), light=tuple(light), style=ST.style(look),
                      requests=(PL.Request("PLACE_STROKES"),), lines=tuple(lines))
         marks = [s for v in PL.Illustration(job).run().strokes.layers.values() for s in v]
         P = np.concatenate([s.points for s in marks])
         inside = (np.hypot(P[:, 0], P[:, 1]) < 0.8 * 0.65) & (P[:, 2] > 0.2)      # on the hollow's wall or floor
         assert inside.sum() > 20, look
+
+
+def test_chain_strokes_go_down_a_hollow_from_its_rim(load_example):
+    """csg_difference, a ball bitten by a smaller one towards the eye: the hollow is the
+    darkest part, and the strokes from the feature chains reach it from the rim (a
+    crease whose far sheet, the hollow's wall, falls away below the outer ball's
+    tangent plane), so silhouette shading follows the light there too."""
+    f = figures("csg_difference", "silhouette-shading", load_example("csg_difference"))
+    assert f["tone_r"] >= 0.8, f
+    assert f["outside"] == 0 and f["crossing"] == 0, f
 
 
 def test_the_tone_curve():
