@@ -39,10 +39,8 @@ SHADOW_REACH = 4.0          # how far a shadow's ray goes, in the model's suppor
 CROSS_PEN = 0.7             # the crossing layer's widest line, a share of the hatching's
 HATCH_RADIUS = 0.7          # a hatching line's radius, in line radii, at the darkest tone
 ORDER = 11                  # the order of marks of one spacing (a salt, model.keyed)
-CHAIN_TILTS = (0.0, 45.0, -45.0, 80.0, -80.0)   # degrees into the surface a chain seed's step is tried at
 CHAIN_SALT = 12             # the keys of the strokes started from the feature chains (a salt, model.keyed)
 SHORT_STEPS = 3             # a short stroke's steps each way
-START_STEPS = 4             # Newton steps that put a chain stroke's start, just off its line, onto the surface
 SINGLE_STEPS = 60           # a single stroke's steps, at most
 CHUNK = 1000                # starts per part of a stroke layer (one pipeline step each)
 CHUNK_LINES = 500           # lines of a hatching map per part
@@ -324,39 +322,13 @@ def chains(cv, sampling, st, region, part, lines=None, outlines=(), seed=0):
     ``chain_distance``, spaced and ended as hatching is (and the seeds beside them fill
     the tone in)."""
     k, chunk = part
-    P, N, H = _off_the_chain(cv, *L.chain_seeds(chunk, cv.eye, st.chain_step, st.chain_angle))
+    P, N, H = L.off_the_chain(cv.ev, *L.chain_seeds(chunk, cv.eye, st.chain_step, st.chain_angle), 0.5 * STEP * cv.unit)
     keys = keyed.combine(np.full(len(P), seed, np.uint64), k, np.arange(len(P)), CHAIN_SALT)
     kind = st.chain_field
     fields = (L.direction_field(kind, st.hatch_axis, cv.eye), None)
     steps = max(1, int(round(st.chain_distance / STEP)))
     layer = dataclasses.replace(_layer(cv, st, region, seed, "all", fields, steps, lines, outlines), turning=0.0)
     return GR.grow(layer, P, N, H, keys, np.arange(len(P)))       # (from the silhouettes themselves)
-
-
-def _off_the_chain(cv, P0, N0, H0):
-    """Chain seeds (points on a feature line, its normal there, a heading off it) moved
-    just off the line onto the surface on their side (a point on a silhouette grazes its
-    own surface), heading away from the line. A crease's far side is another sheet, at
-    an angle to the line's normal (a cup's inner wall below its rim, a union's other
-    part above the valley): where a step along the heading does not land beyond the
-    line, steps tilted into and out of the surface (CHAIN_TILTS) are tried."""
-    off = 0.5 * STEP * cv.unit
-    n = len(P0)
-    P, N, found = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, bool)
-    for tilt in CHAIN_TILTS:
-        todo = np.flatnonzero(~found)
-        if len(todo) == 0:
-            break
-        t = np.radians(tilt)
-        Q, f, g = project(cv.ev, P0[todo] + off * (np.cos(t) * H0[todo] - np.sin(t) * N0[todo]), START_STEPS)
-        gone = Q - P0[todo]
-        ok = on_surface(f, cv.ev.iso, NEAR_SURFACE) & (np.einsum("ij,ij->i", gone, H0[todo]) > 0.25 * off)
-        ok &= np.linalg.norm(gone, axis=1) < 3.0 * off
-        P[todo[ok]], N[todo[ok]], found[todo[ok]] = Q[ok], -g[ok] / np.linalg.norm(g[ok], axis=1, keepdims=True), True
-    P, N, P0, H0 = P[found], N[found], P0[found], H0[found]
-    away = P - P0
-    away -= np.einsum("ij,ij->i", away, N)[:, None] * N
-    return P, N, away / np.linalg.norm(away, axis=1, keepdims=True)
 
 
 def short(cv, sampling, st, region, part, lines=None, outlines=(), seed=0):

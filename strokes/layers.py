@@ -13,6 +13,8 @@ import numpy as np
 from ..agents import steering as st
 from ..model import keyed
 from ..model.curvature import curvature
+from ..model.projection import project
+from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..model.vectors import cross
 
 FIELDS = ("dir1", "dir2", "diagonal", "contour", "axis", "level", "straight")
@@ -144,3 +146,33 @@ def chain_seeds(outlines, eye, every=3, angle=90.0):
     if not P:
         return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3))
     return np.concatenate(P), np.concatenate(N), np.concatenate(H)
+
+
+CHAIN_TILTS = (0.0, 45.0, -45.0, 80.0, -80.0)   # degrees into the surface a chain seed's step is tried at
+START_STEPS = 4             # Newton steps that put a chain stroke's start, just off its line, onto the surface
+
+
+def off_the_chain(ev, P0, N0, H0, off):
+    """Chain seeds (:func:`chain_seeds`: points on a feature line, its normal there, a
+    heading off it) moved ``off`` off the line onto the surface on their side (a point on
+    a silhouette grazes its own surface), heading away from the line. A crease's far
+    side is another sheet, at an angle to the line's normal (a cup's inner wall below
+    its rim, a union's other part above the valley): where a step along the heading does
+    not land beyond the line, steps tilted into and out of the surface (CHAIN_TILTS) are
+    tried. Returns points, normals and headings of the seeds that landed."""
+    n = len(P0)
+    P, N, found = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, bool)
+    for tilt in CHAIN_TILTS:
+        todo = np.flatnonzero(~found)
+        if len(todo) == 0:
+            break
+        t = np.radians(tilt)
+        Q, f, g = project(ev, P0[todo] + off * (np.cos(t) * H0[todo] - np.sin(t) * N0[todo]), START_STEPS)
+        gone = Q - P0[todo]
+        ok = on_surface(f, ev.iso, NEAR_SURFACE) & (np.einsum("ij,ij->i", gone, H0[todo]) > 0.25 * off)
+        ok &= np.linalg.norm(gone, axis=1) < 3.0 * off
+        P[todo[ok]], N[todo[ok]], found[todo[ok]] = Q[ok], -g[ok] / np.linalg.norm(g[ok], axis=1, keepdims=True), True
+    P, N, P0 = P[found], N[found], P0[found]
+    away = P - P0
+    away -= np.einsum("ij,ij->i", away, N)[:, None] * N
+    return P, N, away / np.linalg.norm(away, axis=1, keepdims=True)
