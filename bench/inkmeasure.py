@@ -378,6 +378,7 @@ def crossing_figures(ev, cam, tone_strokes, outlines):
     outside = 0
     P = [s.points for s in tone_strokes]
     L = _segments_2d(outlines, cam)
+    width = 2 * L[:, 4]                     # each outline segment's width, px
     if P:
         allP = np.concatenate(P)
         f, g = ev.field_grad(allP)
@@ -388,14 +389,14 @@ def crossing_figures(ev, cam, tone_strokes, outlines):
             k = np.flatnonzero(hid)
             for n, x in zip(k, xy):
                 d = _point_segment(np.repeat(x[None], len(L), 0), L[:, 0:2], L[:, 2:4])
-                hid[n] = not (d <= 2 * L[:, 4]).any()
+                hid[n] = not (d <= width).any()
         bad = off | hid
         sizes = np.array([len(p) for p in P])
         outside = int(np.add.reduceat(bad.astype(int), np.cumsum(sizes) - sizes).astype(bool).sum())
     crossing = 0
     if len(L) == 0:
         return {"outside": outside, "crossing": 0}
-    C, D, width = L[:, 0:2], L[:, 2:4], 2 * L[:, 4]
+    C, D = L[:, 0:2], L[:, 2:4]
     mid = 0.5 * (C + D)
     reach = 0.5 * np.linalg.norm(D - C, axis=1).max()
     from blobtree_ink.blackboard.cells import pairs_within

@@ -166,7 +166,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         write(obj, result, frame=self.frame)
         # the drawing's strokes, those the run kept (the outlines a look reuses) too: the
         # same look on the same view says the same number however it came about
-        last_run["strokes"] = sum(FR.shown_counts(obj, self.frame).values())
+        shown = FR.shown_counts(obj, self.frame)
+        last_run["strokes"] = sum(shown.get(name, 0) for name in FR.DRAWN)
 
     def _clear_unfit(self):
         """A look that ran to its end, or was stopped (Esc keeps what it drew), is one

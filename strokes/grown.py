@@ -24,7 +24,7 @@ from .hatching import SHORTEST, _outline_segments, _turning, width
 from .layers import spawn_flocks
 from .paper import close_pairs
 from .stipples import spaced
-from .visibility import piece, run_points, tone_step, visible, visible_runs
+from .visibility import piece, run_points, visible, visible_marks
 
 TEST = 0.6              # a growing line stops this share of its spacing from a drawn line
 SIDE = 1.05             # seeds stand this many spacings beside a drawn line ...
@@ -180,8 +180,7 @@ def _taken(layer, lines, keys):
     layer.drawn.add(Q[rows], 0.5 * d[rows])
     r = 0.5 * width(T, layer.radius, layer.contrast)
     at = np.cumsum(sizes) - sizes
-    for k, runs in enumerate(visible_runs(layer.sight, P, sizes, layer.paper.eye, N, grazes=False,
-                                          step=tone_step(layer.sight))):
+    for k, runs in enumerate(visible_marks(layer.sight, P, sizes, layer.paper.eye, N)):
         for run in runs:
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
             pts = run_points(P, run)

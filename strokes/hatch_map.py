@@ -32,7 +32,7 @@ SIDE = 1.0              # seeds stand this many spacings beside a line ...
 SEED_EVERY = 2          # ... at every this many of its steps
 GENERATIONS = 2         # rounds of seeds beside the lines of a level, at most
 MOST_POINTS = 60_000   # a map of this many points takes no more lines (its finer levels are left sparser)
-SHORTEST = 6            # points: a line cut shorter is not kept (a scrap, not a line)
+SHORTEST_LINE = 6       # points: a map's line cut shorter is not kept (a scrap, not a line)
 BEND = np.cos(np.radians(45.0))     # a line ends where it would turn more than this in a step (a knot of the field)
 WRAP = np.radians(85.0)     # a line ends where its normal has turned this far from its seed's (round a tube)
 FLOCK_APART = 0.5       # flocks' seeds stand half a spacing times the flock size to this power apart: flocks
@@ -213,7 +213,7 @@ def _take(acc, lines, d, level):
         ahead, behind = pos[pos > seed[k]], pos[pos < seed[k]]
         hi[k] = ahead.min() if len(ahead) else hi[k]
         lo[k] = behind.max() + 1 if len(behind) else 0
-        taken[k] = hi[k] - lo[k] >= SHORTEST
+        taken[k] = hi[k] - lo[k] >= SHORTEST_LINE
         if taken[k]:
             p, n, s, key = lines[k]
             acc.add(p[lo[k]:hi[k]], n[lo[k]:hi[k]], level, key, np.arange(lo[k], hi[k]) - s)

@@ -13,7 +13,7 @@ from . import tone as TN
 from ..blackboard.cells import pairs_within
 from ..model import keyed
 from .data import Stroke
-from .visibility import piece, run_points, tone_step, visible_runs
+from .visibility import piece, run_points, visible_marks
 
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
@@ -152,8 +152,7 @@ def draw(layer, hmap, lines=None):
     r = 0.5 * w[idx] / scale[idx]
     out = []
     at = np.cumsum(psizes) - psizes
-    for k, vis in enumerate(visible_runs(layer.sight, P[idx], psizes, layer.paper.eye, N[idx], grazes=False,
-                                         step=tone_step(layer.sight))):
+    for k, vis in enumerate(visible_marks(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
         for run in vis:
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
             pts = run_points(P[idx], run)
@@ -179,9 +178,9 @@ def widths(layer, hmap, P, N, T, level, key):
     q, scale = layer.paper.place(P)
     eps = 1e-3 * hmap.spacing
     a = layer.paper.place(P + eps * np.cross(N, T))[0] - q      # a step across the line and one along it, on
-    t = layer.paper.place(P + eps * T)[0] - q                   # the paper: lines a spacing apart stand apart
-    tn = np.linalg.norm(t, axis=1)                              # by its part square to the line there
-    gap = np.where(tn > 1e-9 * eps, np.abs(a[:, 0] * t[:, 1] - a[:, 1] * t[:, 0]) / np.maximum(tn, 1e-300),
+    along = layer.paper.place(P + eps * T)[0] - q               # the paper: lines a spacing apart stand apart
+    tn = np.linalg.norm(along, axis=1)                          # by its part square to the line there
+    gap = np.where(tn > 1e-9 * eps, np.abs(a[:, 0] * along[:, 1] - a[:, 1] * along[:, 0]) / np.maximum(tn, 1e-300),
                    np.linalg.norm(a, axis=1))
     stretch = gap / eps / np.maximum(scale, 1e-300)
     W = 2.0 * layer.radius * scale

@@ -149,7 +149,10 @@ def chain_seeds(outlines, eye, every=3, angle=90.0):
 
 
 CHAIN_TILTS = (0.0, 45.0, -45.0, 80.0, -80.0)   # degrees into the surface a chain seed's step is tried at
-START_STEPS = 4             # Newton steps that put a chain stroke's start, just off its line, onto the surface
+CHAIN_ONTO = 4              # Newton steps that put a chain stroke's start, just off its line, onto the surface
+BEYOND = 0.25               # a chain seed has landed beyond its line when it went this share of its step along
+                            # its heading ...
+ASTRAY = 3.0                # ... and no farther than this many steps from its chain point
 
 
 def off_the_chain(ev, P0, N0, H0, off):
@@ -161,18 +164,18 @@ def off_the_chain(ev, P0, N0, H0, off):
     not land beyond the line, steps tilted into and out of the surface (CHAIN_TILTS) are
     tried. Returns points, normals and headings of the seeds that landed."""
     n = len(P0)
-    P, N, found = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, bool)
+    P, N, H, found = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, bool)
     for tilt in CHAIN_TILTS:
         todo = np.flatnonzero(~found)
         if len(todo) == 0:
             break
         t = np.radians(tilt)
-        Q, f, g = project(ev, P0[todo] + off * (np.cos(t) * H0[todo] - np.sin(t) * N0[todo]), START_STEPS)
+        Q, f, g = project(ev, P0[todo] + off * (np.cos(t) * H0[todo] - np.sin(t) * N0[todo]), CHAIN_ONTO)
+        Nq = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
         gone = Q - P0[todo]
-        ok = on_surface(f, ev.iso, NEAR_SURFACE) & (np.einsum("ij,ij->i", gone, H0[todo]) > 0.25 * off)
-        ok &= np.linalg.norm(gone, axis=1) < 3.0 * off
-        P[todo[ok]], N[todo[ok]], found[todo[ok]] = Q[ok], -g[ok] / np.linalg.norm(g[ok], axis=1, keepdims=True), True
-    P, N, P0 = P[found], N[found], P0[found]
-    away = P - P0
-    away -= np.einsum("ij,ij->i", away, N)[:, None] * N
-    return P, N, away / np.linalg.norm(away, axis=1, keepdims=True)
+        away = gone - np.einsum("ij,ij->i", gone, Nq)[:, None] * Nq          # (in the landed point's tangent plane)
+        ok = on_surface(f, ev.iso, NEAR_SURFACE) & (np.einsum("ij,ij->i", gone, H0[todo]) > BEYOND * off)
+        ok &= (np.linalg.norm(gone, axis=1) < ASTRAY * off) & (np.linalg.norm(away, axis=1) > 1e-6 * off)
+        P[todo[ok]], N[todo[ok]], H[todo[ok]], found[todo[ok]] = Q[ok], Nq[ok], away[ok], True
+    H = H[found]
+    return P[found], N[found], H / np.linalg.norm(H, axis=1, keepdims=True)

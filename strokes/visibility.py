@@ -11,7 +11,7 @@ visible point and the next hidden one (so a line that passes behind another meet
 not a step short of it). A line's own grazing surface hides a point or two of it where
 the ray leaves the surface almost along it: such a short gap, hit within GRAZE
 marching steps of its start, between visible points of the same line, is not a gap
-(another solid hit first is).
+for an outline (another solid hit first is); for a tone mark it is (visible_marks).
 """
 from typing import NamedTuple
 
@@ -214,6 +214,12 @@ def visible_runs(sight, P, sizes, eye, normals=None, min_points=2, grazes=True, 
         v = ~np.isfinite(d)
     return _ends(sight, P, normals, eye, _runs(v, sizes, min_points), np.cumsum(sizes) - sizes, sizes,
                  None if grazes else step)
+
+
+def visible_marks(sight, P, sizes, eye, normals):
+    """The visible runs of tone marks (:func:`visible_runs`): a graze of the surface is a
+    gap, the rays marched at the tone marks' step (:func:`tone_step`)."""
+    return visible_runs(sight, P, sizes, eye, normals, grazes=False, step=tone_step(sight))
 
 
 def _through_grazes(hidden, grazed, sizes):
