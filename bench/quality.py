@@ -25,6 +25,7 @@ pure.install()
 import numpy as np  # noqa: E402
 
 import inkmeasure as IM  # noqa: E402
+import inkview as IV  # noqa: E402
 from blobtree_ink import pipeline as PL  # noqa: E402
 from blobtree_ink.blackboard.view import View  # noqa: E402
 from blobtree_ink.model import Evaluator, load  # noqa: E402
@@ -63,7 +64,7 @@ def measure(ev, cam, lit, eye, st, layers, hatch, res, lines):
     mask = np.isfinite(lit)
     target = np.where(mask, TN.tone(np.nan_to_num(lit), st.shade_lower, st.shade_upper, st.contrast), 0.0)
     tone_strokes = [s for name in IM.TONE_LAYERS for s in layers.get(name, ())]
-    ink = IM.downsample(IM.rasterise(cam, tone_strokes, res * 4), res)
+    ink = IV.downsample(IV.rasterise(cam, tone_strokes, res * 4), res)
     out = IM.tone_figures(target, ink, mask, res)
     out.update(IM.dot_figures(cam, layers.get("Stipples", [])))
     first, crossing = hatch
@@ -110,8 +111,8 @@ def main(argv=None):
         eye = PL.three_quarter_eye(centre, radius)
         light = PL.default_light(centre, eye)
         lines = outlines_of(ev, eye, light, a.seed)
-        cam = IM.Camera.framing(eye, centre, np.concatenate([s.points for s in lines]), 1024)
-        lit, _ = IM.cast_light(ev, cam, light, a.res)
+        cam = IV.Camera.framing(eye, centre, np.concatenate([s.points for s in lines]), 1024)
+        lit, _ = IV.cast_light(ev, cam, light, a.res)
         for look in looks:
             st = style(look)
             layers, hatch, seconds = drawing(ev, eye, light, st, lines, a.seed)
@@ -120,8 +121,8 @@ def main(argv=None):
             print(row(name, look, figures), flush=True)
             if a.out:
                 every = lines + [s for v in layers.values() for s in v]
-                IM.write_png(os.path.join(a.out, f"{name}-{look}.png"), 1.0 - IM.rasterise(cam, every, 1024))
-                IM.write_png(os.path.join(a.out, f"{name}-{look}-tone.png"),
+                IV.write_png(os.path.join(a.out, f"{name}-{look}.png"), 1.0 - IV.rasterise(cam, every, 1024))
+                IV.write_png(os.path.join(a.out, f"{name}-{look}-tone.png"),
                              1.0 - np.kron(target, np.ones((1024 // a.res,) * 2)))
 
 

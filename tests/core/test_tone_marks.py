@@ -19,6 +19,7 @@ from blobtree_ink.strokes import tone as TN
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
                                 "bench"))
 import inkmeasure as IM  # noqa: E402
+import inkview as IV  # noqa: E402
 import quality as Q  # noqa: E402
 
 SMALL = {
@@ -50,8 +51,8 @@ def scene(name, model=None):
         job = PL.Job(ev, view=View(eye=eye), light=tuple(light))
         res = PL.Illustration(job).run()
         lines = [s for k in IM.OUTLINE_LAYERS for s in res.strokes.layers.get(k, ())]
-        cam = IM.Camera.framing(eye, centre, np.concatenate([s.points for s in lines]), 1024)
-        lit, _ = IM.cast_light(ev, cam, light, RES)
+        cam = IV.Camera.framing(eye, centre, np.concatenate([s.points for s in lines]), 1024)
+        lit, _ = IV.cast_light(ev, cam, light, RES)
         _seen[name] = ev, eye, light, lines, cam, lit
     return _seen[name]
 
