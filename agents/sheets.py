@@ -12,7 +12,7 @@ cannot have a crease between them: the field is smooth there.
 """
 import numpy as np
 
-from ..model.branches import NOT_REACHED
+from ..model.branches import apart
 from ..model.tolerances import on_surface
 from ..model.vectors import cross
 from .asks import Ask, run
@@ -41,14 +41,7 @@ def record_ends_steps(surface, A, B):
     m = len(A)
     _, _, table = yield Ask(np.concatenate([A, B]), record=True)
     pins = np.stack([table[:m], table[m:]], axis=1)
-    return pins, apart(pins)
-
-
-def apart(pins):
-    """Whether the two records of each (m, 2, sites) pair chose differently at a site
-    both reached (a site one of them never reached is 0 there: no switch)."""
-    a, b = pins[:, 0], pins[:, 1]
-    return np.any((a != b) & (a != NOT_REACHED) & (b != NOT_REACHED), axis=1)
+    return pins, apart(pins[:, 0], pins[:, 1])
 
 
 def no_silhouette_steps(surface, a, b, sa, sb, pins):

@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..model.branches import apart
 from ..model.tolerances import on_surface
 from ..model.vectors import cross
 from . import sheets
@@ -257,7 +258,7 @@ def trace_step(surface, kinds, P, T, ref, h, tol, crease_angle, nP=None, pins=No
     sil = np.flatnonzero(kinds == SIL) if nP is not None else np.zeros(0, np.int64)
     cre = np.flatnonzero(kinds == CREASE)
     if len(cre) and team is not None:
-        cre = cre[sheets.apart(pins[cre])]
+        cre = cre[apart(pins[cre, 0], pins[cre, 1])]
     else:
         cre = cre[:0]
     # the two correctors side by side, on shared evaluations (agents.asks)

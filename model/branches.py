@@ -25,6 +25,13 @@ NOT_REACHED = -2
 ZERO = -1
 
 
+def apart(a, b):
+    """Whether the branch records a and b (rows of (m, sites)) chose differently at a
+    site both reached (a site one of them never reached tells no switch): a crease may
+    lie between the points."""
+    return np.any((a != b) & (a != NOT_REACHED) & (b != NOT_REACHED), axis=1)
+
+
 class Ctx:
     """The choices of an evaluation for the points in hand: ``ids`` their rows of the
     table, ``off`` their stack member inside a stack's shape (None outside). Each row's

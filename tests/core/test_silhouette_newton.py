@@ -9,6 +9,7 @@ import numpy as np
 from blobtree_ink.agents.surface import SIL, Surface
 from blobtree_ink.agents.tracer import trace_step
 from blobtree_ink.blackboard.view import View
+from blobtree_ink.model.branches import apart
 
 from test_massris import K, model_of
 from blobtree_ink import model as M
@@ -195,7 +196,7 @@ def test_a_crease_step_newton_cannot_settle_is_retried_shorter_before_it_is_brac
     A, _, _ = surf.project(P + [[-0.02, 0, 0]])
     B, _, _ = surf.project(P + [[0.02, 0, 0]])
     pins = sheets.record_ends(surf, A, B)[0]
-    assert sheets.apart(pins).all()
+    assert apart(pins[:, 0], pins[:, 1]).all()
     calls = []
     real = tracer_mod._bracket_step
 
