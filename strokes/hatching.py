@@ -13,6 +13,7 @@ from . import tone as TN
 from ..blackboard.cells import pairs_within
 from ..model import keyed
 from .data import Stroke
+from .hatch_map import tangents
 from .visibility import piece, run_points, visible_marks
 
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
@@ -133,8 +134,8 @@ def draw(layer, hmap, lines=None):
     line = np.repeat(which, sizes)
     first = np.cumsum(sizes) - sizes
     local = np.arange(len(P)) - np.repeat(first, sizes)
-    T = _tangents(P, first, sizes)
-    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line])
+    T = tangents(P, first, sizes)
+    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line], hmap.spread[rows])
     drawn = w > 0
     if layer.rules.region is not None:
         drawn &= layer.rules.region.contains(P)
@@ -161,7 +162,7 @@ def draw(layer, hmap, lines=None):
     return out
 
 
-def widths(layer, hmap, P, N, T, level, key):
+def widths(layer, hmap, P, N, T, level, key, spread=None):
     """How wide (on the paper) each point of a map's lines is drawn, and the paper's scale
     there. Level 0's lines stand ``hmap.spacing`` apart on the surface, so S0 = spacing
     times how far apart the paper sets lines a unit apart on the surface (square to
@@ -170,7 +171,11 @@ def widths(layer, hmap, P, N, T, level, key):
     at lam = log2(c S0 / W) between m and m + 1 the levels up to m are drawn W wide and
     level m + 1 (2^(lam - m) - 1) W wide, so that the coverage is c and grows smoothly;
     past the last level every line widens. A line thinner than THINNEST of W is drawn
-    THINNEST W wide where its key's number says (as often as its width asks), else not."""
+    THINNEST W wide where its key's number says (as often as its width asks), else not.
+    With the map's ``spread`` at the points (strokes.hatch_map.spread) the coverage asked
+    of a line is scaled by how far apart the lines of its set really stand there, so
+    that lines crowded together thin and lines far apart widen (or bring the next
+    level in sooner), and the tone stays even."""
     facing = ~_turning(layer.paper, P, N)
     t = np.zeros(len(P))
     t[facing] = layer.tone(P[facing], N[facing])
@@ -185,9 +190,13 @@ def widths(layer, hmap, P, N, T, level, key):
     stretch = gap / eps / np.maximum(scale, 1e-300)
     W = 2.0 * layer.radius * scale
     S0 = hmap.spacing * stretch * scale
+    last = hmap.levels - 1
     with np.errstate(divide="ignore"):
         lam = np.log2(np.maximum(c * S0, 1e-300) / W)
-    last = hmap.levels - 1
+    if spread is not None:
+        full = np.clip(np.ceil(lam) - 1, 0, last).astype(np.int64)      # the set drawn full width there
+        with np.errstate(divide="ignore"):
+            lam = np.log2(np.maximum(c * S0 * spread[np.arange(len(P)), full], 1e-300) / W)
     m = np.clip(np.ceil(lam) - 1, 0, last)
     w = np.where(level <= m, W, np.where(level == m + 1, (np.exp2(lam - m) - 1.0) * W, 0.0))
     w = np.where(lam <= 0, np.where(level == 0, c * S0, 0.0), w)
@@ -196,17 +205,6 @@ def widths(layer, hmap, P, N, T, level, key):
     u = keyed.uniform(np.asarray(key, np.uint64), FRAY_SALT)
     w = np.where(w < thin, np.where(u * thin < w, thin, 0.0), w)
     return np.where(facing & (c > 0), w, 0.0), scale
-
-
-def _tangents(P, first, sizes):
-    """Each point's direction along its line (central differences, one-sided at the ends)."""
-    nxt = np.arange(len(P)) + 1
-    prv = np.arange(len(P)) - 1
-    last = first + sizes - 1
-    nxt[last] = last
-    prv[first] = first
-    T = P[nxt] - P[prv]
-    return T / np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
 
 
 def _runs(drawn, cut, first, sizes):
