@@ -9,6 +9,7 @@ from blobtree_ink.blackboard.cells import pairs_within
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model.curvature import curvature
 from blobtree_ink.pipeline import layers as LY
+from blobtree_ink.strokes import cross_field as CF
 from blobtree_ink.strokes import style as ST
 
 
@@ -62,3 +63,32 @@ def test_a_round_part_is_hatched_round():
     P = cf.points[away][:50] * 1.0001
     got = cf.first_at(P, N[away][:50], np.zeros((50, 3)))
     assert np.all(np.abs(np.einsum("ij,ij->i", got, level[away][:50])) > 0.95)
+
+
+def test_a_patch_whose_first_line_runs_across_all_about_it_goes_over():
+    """On a plane of reliable nodes whose crosses all run along x and y, a square patch
+    labelled y inside a field labelled x takes x (its seam gone); where the principal
+    directions mean little the level line wins over a minority of neighbours."""
+    g1 = np.arange(20.0)
+    X, Y = np.meshgrid(g1, g1, indexing="ij")
+    P = np.c_[X.ravel(), Y.ravel(), np.zeros(X.size)]
+    n = len(P)
+    dirs, other = np.tile([1.0, 0.0, 0.0], (n, 1)), np.tile([0.0, 1.0, 0.0], (n, 1))
+    i, j = pairs_within(P, P, 1.5)
+    keep = i != j
+    i, j = i[keep], j[keep]
+    g = np.ones(len(i))
+    patch = (np.abs(X.ravel() - 9.5) < 2) & (np.abs(Y.ravel() - 9.5) < 2)
+    first = np.where(patch[:, None], other, dirs)
+    out = CF._seams_shortened(first, dirs, other, dirs, np.ones(n), i, j, g)
+    assert np.allclose(out, dirs)
+    # nodes with no principal directions lean to the level line (here y) and keep it
+    out = CF._seams_shortened(first, dirs, other, other, np.zeros(n), i, j, g)
+    assert np.allclose(out, other)
+
+
+def test_the_hearts_first_lines_have_short_seams(load_example):
+    """The heart (veined lobes, a valley between them): few neighbouring reliable nodes'
+    first lines turn through a right angle (seams where labelling fronts met, shortened)."""
+    cf, _ = field_of(load_example("heart"))
+    assert turned_pairs(cf, cf.first, reliable=0.0) < 0.025
