@@ -280,8 +280,9 @@ class Illustration:
 
     def _line_layer(self, stage, parts, draw, marks=None, **kw):
         """A layer of lines spaced on the paper (strokes.hatching) in parts, its lines so
-        far kept over them, ended at the visible outlines."""
-        if self._parts is None:
+        far kept over them (the cross-hatching's with the hatching's: their ends share
+        the paper), ended at the visible outlines."""
+        if self._parts is None and not (self.stage == "cross-hatching" and self._lines is not None):
             self._lines = Placed()
         self._stroke_layer(STYLE_LAYERS[stage], parts, draw, marks, lines=self._lines,
                            outlines=self._drawn_lines(), seed=self.job.seed, **kw)

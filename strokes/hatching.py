@@ -65,7 +65,8 @@ class Layer:
     weights: dict
     rules: object
     outlines: list = field(default_factory=list)
-    drawn: object = None                 # strokes.paper.Placed: the lines grown on the paper so far
+    drawn: object = None                 # strokes.paper.Placed: the lines grown (chains) or the lines' ends
+                                         # (hatching, its crossing layer's with them) on the paper so far
     flock_size: int = 1
     turning: float = TURNING
 
@@ -123,7 +124,9 @@ def draw(layer, hmap, lines=None):
     """A frame's hatching from a hatching map (strokes.hatch_map) of the lines ``lines``
     (numbers; default all): each point of a line drawn as wide as the tone wants of its
     level (:func:`widths`), the lines split where they leave the tone, turn from the
-    eye, leave the region, cross a visible outline or go out of sight."""
+    eye, leave the region, cross a visible outline or go out of sight, and shortened
+    where their ends would crowd (:func:`spread_ends`, the lower levels' and longer
+    lines' first; the ends of the parts drawn before in ``layer.drawn``)."""
     which = np.arange(len(hmap)) if lines is None else np.asarray(lines, np.int64)
     sizes = hmap.sizes()[which]
     rows = np.concatenate([np.arange(a, a + n) for a, n in zip(hmap.start[which], sizes)]) if len(which) else \
@@ -151,7 +154,7 @@ def draw(layer, hmap, lines=None):
     psizes = np.array([len(x) for x in pieces])
     idx = np.concatenate(pieces)
     r = 0.5 * w[idx] / scale[idx]
-    out = []
+    out, owner = [], []
     at = np.cumsum(psizes) - psizes
     for k, vis in enumerate(visible_marks(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
         for run in vis:
@@ -159,6 +162,55 @@ def draw(layer, hmap, lines=None):
             pts = run_points(P[idx], run)
             if len(pts) >= 2:
                 out.append(Stroke(pts, piece(r, run), np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
+                owner.append(line[idx[at[k]]])
+    order = np.lexsort((hmap.key, -hmap.sizes(), hmap.level))
+    rank = np.empty(len(order), np.int64)
+    rank[order] = np.arange(len(order))
+    return spread_ends(layer.paper, out, rank[np.asarray(owner, np.int64)], 2.0 * layer.radius, layer.drawn)
+
+
+END_REACH = 6.0         # widest line widths: within this of any line end on the paper ...
+END_MOST = 4            # ... lie at most this many ends of the hatching's lines (more read as a blot, or a fan)
+
+
+def spread_ends(paper, strokes, rank, widest, drawn):
+    """The strokes, taken in ``rank`` order (lower first), each shortened from an end
+    (point by point) while that end would make more than END_MOST ends within END_REACH
+    widest line widths of it or of an end taken before (this part's, or the parts'
+    before: ``drawn``, a strokes.paper.Placed of the layer's line ends, added to), on
+    the paper; left out where that leaves it shorter than SHORTEST. Lines that run into a
+    corner or a seam of the field end one after another, not in one blot."""
+    E = drawn.places[:, :2]
+    count = np.zeros(len(E), np.int64)
+    if len(E):
+        i, j = pairs_within(drawn.places, drawn.places, drawn.reach.max())
+        count = np.bincount(i[np.linalg.norm(E[i] - E[j], axis=1) < drawn.reach[i]], minlength=len(E))
+
+    def crowds(x, reach):
+        near = np.linalg.norm(E - x, axis=1) < reach
+        return near.sum() + 1 > END_MOST or (count[near] + 1 > END_MOST).any(), near
+
+    out, ends = [], []
+    for k in np.argsort(rank, kind="stable").tolist():
+        s = strokes[k]
+        xy, scale = paper.place(s.points)
+        reach = END_REACH * widest * scale
+        a, b = 0, len(xy)
+        while b - a >= SHORTEST and crowds(xy[a, :2], reach[a])[0]:
+            a += 1
+        while b - a >= SHORTEST and crowds(xy[b - 1, :2], reach[b - 1])[0]:
+            b -= 1
+        if b - a < SHORTEST:
+            continue
+        for end in (a, b - 1):
+            near = crowds(xy[end, :2], reach[end])[1]
+            count[near] += 1
+            E, count = np.vstack([E, xy[end, :2]]), np.append(count, near.sum() + 1)
+            ends.append((xy[end], reach[end]))
+        out.append(s if (a, b) == (0, len(xy)) else
+                   Stroke(s.points[a:b], s.radius[a:b], s.opacity[a:b], s.cyclic, s.dots, s.mark))
+    if ends:
+        drawn.add(np.array([x for x, _ in ends]), np.array([r for _, r in ends]))
     return out
 
 
