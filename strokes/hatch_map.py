@@ -11,7 +11,8 @@ to LEVELS levels; a level's lines are evenly spaced on the surface (Jobard and L
 lines before, a spacing to either side of every other step), a seed taken only where
 no line comes within CLEAR of its level's spacing, grown both ways until it comes
 within TEST of it of another line, and the lines of one generation taken in order, each
-cut where it comes too close to one taken before it.
+cut where it comes too close to one taken before it. Lines that end facing each other
+across such a gap, in line, are then joined (strokes.hatch_join).
 """
 from dataclasses import dataclass
 
@@ -22,6 +23,7 @@ from ..blackboard.cells import PointHash, pairs_within
 from ..model import keyed
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
+from .hatch_join import join
 from .layers import spawn_flocks
 
 COARSEST = 10.0         # line widths between level 0's lines
@@ -156,7 +158,7 @@ def build(ev, marks, order, flow, heads, step, steps, weights, width, rules=None
             new = _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weights, rules,
                               flock_size)
             P, N, H, keys, rank = _beside(ev, acc, new, d, level, within)
-    return acc.map(spacing, levels)
+    return _map(join(ev, [(p, n, lv, key) for p, n, lv, key, _ in acc.lines], spacing, step), spacing, levels)
 
 
 class _Accepted:
@@ -194,16 +196,18 @@ class _Accepted:
             out[i[np.einsum("ij,ij->i", Nx[i], self.N[j]) > AGREE]] = True
         return out
 
-    def map(self, spacing, levels):
-        if not self.lines:
-            z = np.zeros((0, 3))
-            return HatchMap(z, z, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.uint64),
-                            np.zeros(0, np.int64), spacing, levels)
-        sizes = np.array([len(p) for p, *_ in self.lines])
-        return HatchMap(np.concatenate([p for p, *_ in self.lines]), np.concatenate([n for _, n, *_ in self.lines]),
-                        np.repeat(np.arange(len(sizes)), sizes), np.array([lv for _, _, lv, _, _ in self.lines]),
-                        np.array([k for *_, k, _ in self.lines], np.uint64), np.cumsum(sizes) - sizes, spacing,
-                        levels)
+
+
+def _map(lines, spacing, levels):
+    """The HatchMap of lines (points, normals, level, key)."""
+    if not lines:
+        z = np.zeros((0, 3))
+        return HatchMap(z, z, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.uint64),
+                        np.zeros(0, np.int64), spacing, levels)
+    sizes = np.array([len(p) for p, *_ in lines])
+    return HatchMap(np.concatenate([p for p, *_ in lines]), np.concatenate([n for _, n, *_ in lines]),
+                    np.repeat(np.arange(len(sizes)), sizes), np.array([lv for _, _, lv, _ in lines]),
+                    np.array([k for *_, k in lines], np.uint64), np.cumsum(sizes) - sizes, spacing, levels)
 
 
 def _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weights, rules, flock_size):
