@@ -51,7 +51,7 @@ class Style:
     chain_step: int = 3                  # every n-th chain point starts a stroke
     chain_angle: float = 90.0            # degrees between the chain and its strokes
     chain_field: str = "straight"
-    chain_distance: float = 3.0          # from the feature line, in stroke units (about a default grid cell)
+    chain_distance: float = 12.0         # from the feature line, in stroke units, at most (the tone ends them sooner)
     stipple_every: int = 2
     line_width: float = 1.0              # times the base line radius
     contrast: float = 1.0                # how much of the tonal range the light spans (strokes.tone)
