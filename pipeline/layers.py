@@ -33,6 +33,8 @@ from ..strokes.style import outline_strokes, view_right
 from ..strokes.visibility import Sight
 
 OUTLINE_LAYERS = tuple(LAYER_OF_KIND.values())
+CHAIN_TURN = np.radians(85.0)   # a stroke from a feature line ends where its normal has turned this far (from a
+                                # silhouette, nearly to where the surface faces the eye)
 STEP = 0.3                  # a smarticle's step, in stroke units (stipples take half)
 STIPPLE_RADIUS = 1.8        # a stipple's radius, in line radii, at the darkest tone
 SHADOW_REACH = 4.0          # how far a shadow's ray goes, in the model's support diagonals
@@ -327,7 +329,8 @@ def chains(cv, sampling, st, region, part, lines=None, outlines=(), seed=0):
     kind = st.chain_field
     fields = (L.direction_field(kind, st.hatch_axis, cv.eye), None)
     steps = max(1, int(round(st.chain_distance / STEP)))
-    layer = dataclasses.replace(_layer(cv, st, region, seed, "all", fields, steps, lines, outlines), turning=0.0)
+    layer = _layer(cv, st, region, seed, "all", fields, steps, lines, outlines)
+    layer = dataclasses.replace(layer, turning=0.0, rules=dataclasses.replace(layer.rules, max_normal_angle=CHAIN_TURN))
     return GR.grow(layer, P, N, H, keys, np.arange(len(P)))       # (from the silhouettes themselves)
 
 

@@ -106,6 +106,18 @@ def test_silhouette_shading_reaches_as_far_into_the_shade_as_the_light_asks(name
     assert f["outside"] == 0 and f["crossing"] == 0, f
 
 
+def test_silhouette_shading_strokes_run_from_the_silhouette_towards_where_the_sphere_faces_the_eye():
+    """On a lit sphere a stroke from the silhouette turns on past 60 degrees (the
+    smarticles' usual limit, where the strokes used to stop in a ring and start again)."""
+    ev, eye, light, lines, cam, lit = scene("lit sphere")
+    layers, _, _ = Q.drawing(ev, eye, light, ST.style("silhouette-shading"), lines, 0)
+    turned = []
+    for s in layers["Chains"]:
+        a, b = s.points[0], s.points[-1]
+        turned.append(np.degrees(np.arccos(np.clip(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)), -1, 1))))
+    assert max(turned) > 70.0, max(turned)
+
+
 def test_a_cavity_in_shade_gets_its_ink():
     """The inside of the cup, in shade, is inked (a subtracted part's hollow has marks),
     also by strokes from the feature chains (from the rim's crease down its inner wall)."""
