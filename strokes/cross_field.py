@@ -28,6 +28,7 @@ GUESS = 0.5            # how strongly a node with no reliable directions keeps t
 UP = np.array([0.0, 0.0, 1.0])
 ROUND = 0.5             # below this reliability a node's first line is the one nearer the level line
 SWEEPS = 40             # sweeps that shorten the seams between parts whose first lines differ, at most
+SAME = 0.5              # two lines of a cross whose directions' |cosine| is at least this are one line
 
 
 def reliability(c, size):
@@ -107,13 +108,15 @@ def _seams_shortened(first, dirs, other, level, weight, i, j, g):
     lean = np.bincount(i, g, n) * (1.0 - weight) * np.clip(1.0 - weight / ROUND, 0.0, 1.0)
     lean *= np.einsum("ij,ij->i", level, dirs) ** 2 - np.einsum("ij,ij->i", level, other) ** 2
     half = (np.arange(n) * 0x9E3779B1 >> 7) & 1
+    still = 0                                       # sweeps in a row that changed nothing
     for sweep in range(SWEEPS):
         fj = first[j]
         vote = g * (np.einsum("ij,ij->i", fj, dirs[i]) ** 2 - np.einsum("ij,ij->i", fj, other[i]) ** 2)
         score = np.bincount(i, vote, n) + lean
         want = np.where((score >= 0)[:, None], dirs, other)
-        change = (np.abs(np.einsum("ij,ij->i", want, first)) < 0.5) & (half == sweep % 2)
-        if not change.any() and sweep:
+        change = (np.abs(np.einsum("ij,ij->i", want, first)) < SAME) & (half == sweep % 2)
+        still = 0 if change.any() else still + 1
+        if still == 2:                              # neither half changes
             break
         first = np.where(change[:, None], want, first)
     return first

@@ -6,7 +6,7 @@ gap, nearly in line and on one sheet, with no other line in between, they are on
 the gap is bridged on the surface and the line runs on, as an engraver's would."""
 import numpy as np
 
-from ..blackboard.cells import pairs_within
+from ..blackboard.cells import PointHash, pairs_within
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 
@@ -62,8 +62,20 @@ def _edges(ev, lines, ends, spacing, step):
     if len(i) == 0:
         return []
     order = np.argsort(dist, kind="stable")
-    others = np.concatenate([p for p, *_ in lines])
     owner = np.repeat(np.arange(len(lines)), [len(p) for p, *_ in lines])
+    hashes = {}                                     # per level, every line's points hashed at its clearance
+
+    def crossed(a, b, X, lv):
+        """Whether a line other than a's and b's comes within the clearance of the gap:
+        of the bridge's points and of the chord, sampled at least that finely."""
+        r = CLEARANCE * spacing / 2.0 ** lv
+        if lv not in hashes:
+            hashes[lv] = PointHash(np.concatenate([p for p, *_ in lines]), r)
+        k = int(np.ceil(np.linalg.norm(E[b] - E[a]) / r)) + 1
+        chord = E[a] + np.linspace(0.0, 1.0, k + 1)[1:-1, None] * (E[b] - E[a])
+        _, near = hashes[lv].pairs(np.vstack([X, chord]))
+        return np.isin(owner[near], (a // 2, b // 2), invert=True).any()
+
     root = list(range(len(lines)))
 
     def find(a):
@@ -82,10 +94,8 @@ def _edges(ev, lines, ends, spacing, step):
         if bridge is None:
             continue
         X, Nx = bridge
-        if len(X):
-            near_i, near_j = pairs_within(X, others, CLEARANCE * spacing / 2.0 ** level[a])
-            if np.isin(owner[near_j], (a // 2, b // 2), invert=True).any():
-                continue
+        if crossed(a, b, X, level[a]):
+            continue
         used[a] = used[b] = True
         root[find(a // 2)] = find(b // 2)
         out.append((a, b, X, Nx))
@@ -144,13 +154,14 @@ def _smoothed(ev, P, N, joins):
     of stepping across."""
     if not joins:
         return P, N
-    P, N = P.copy(), N.copy()
-    rows = np.unique(np.concatenate([np.arange(max(a - SMOOTH_POINTS, 1), min(b + SMOOTH_POINTS, len(P) - 1))
+    rows = np.unique(np.concatenate([np.arange(max(a - SMOOTH_POINTS + 1, 1), min(b + SMOOTH_POINTS, len(P) - 1))
                                      for a, b in joins]))
+    S = P.copy()
     for _ in range(SMOOTH_TIMES):
-        P[rows] = 0.25 * P[rows - 1] + 0.5 * P[rows] + 0.25 * P[rows + 1]
-    X, f, g = project(ev, P[rows], ONTO)
-    ok = on_surface(f, ev.iso, NEAR_SURFACE)
+        S[rows] = 0.25 * S[rows - 1] + 0.5 * S[rows] + 0.25 * S[rows + 1]
+    X, f, g = project(ev, S[rows], ONTO)
+    ok = on_surface(f, ev.iso, NEAR_SURFACE)                 # (a point that does not reach it stays as it was)
+    P, N = P.copy(), N.copy()
     P[rows[ok]] = X[ok]
     N[rows[ok]] = -g[ok] / np.maximum(np.linalg.norm(g[ok], axis=1, keepdims=True), 1e-300)
     return P, N

@@ -199,7 +199,11 @@ class _Accepted:
 
 
 def _map(lines, spacing, levels):
-    """The HatchMap of lines (points, normals, level, key)."""
+    """The HatchMap of lines (points, normals, level, key), in order of their level, then
+    longest first, then key (the order a frame's hatching gives way in where line ends
+    crowd, strokes.hatching.spread_ends: parts of the map cut one sequence)."""
+    lines = [lines[k] for k in sorted(range(len(lines)), key=lambda k: (lines[k][2], -len(lines[k][0]),
+                                                                         int(lines[k][3])))]
     if not lines:
         z = np.zeros((0, 3))
         return HatchMap(z, z, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, np.uint64),

@@ -125,8 +125,8 @@ def draw(layer, hmap, lines=None):
     (numbers; default all): each point of a line drawn as wide as the tone wants of its
     level (:func:`widths`), the lines split where they leave the tone, turn from the
     eye, leave the region, cross a visible outline or go out of sight, and shortened
-    where their ends would crowd (:func:`spread_ends`, the lower levels' and longer
-    lines' first; the ends of the parts drawn before in ``layer.drawn``)."""
+    where their ends would crowd (:func:`spread_ends`, in the map's order: lower levels,
+    then longer lines, first; the ends of the parts drawn before in ``layer.drawn``)."""
     which = np.arange(len(hmap)) if lines is None else np.asarray(lines, np.int64)
     sizes = hmap.sizes()[which]
     rows = np.concatenate([np.arange(a, a + n) for a, n in zip(hmap.start[which], sizes)]) if len(which) else \
@@ -163,10 +163,7 @@ def draw(layer, hmap, lines=None):
             if len(pts) >= 2:
                 out.append(Stroke(pts, piece(r, run), np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
                 owner.append(line[idx[at[k]]])
-    order = np.lexsort((hmap.key, -hmap.sizes(), hmap.level))
-    rank = np.empty(len(order), np.int64)
-    rank[order] = np.arange(len(order))
-    return spread_ends(layer.paper, out, rank[np.asarray(owner, np.int64)], 2.0 * layer.radius, layer.drawn)
+    return spread_ends(layer.paper, out, np.asarray(owner, np.int64), 2.0 * layer.radius, layer.drawn)
 
 
 END_REACH = 6.0         # widest line widths: within this of any line end on the paper ...
@@ -180,14 +177,14 @@ def spread_ends(paper, strokes, rank, widest, drawn):
     before: ``drawn``, a strokes.paper.Placed of the layer's line ends, added to), on
     the paper; left out where that leaves it shorter than SHORTEST. Lines that run into a
     corner or a seam of the field end one after another, not in one blot."""
-    E = drawn.places[:, :2]
+    E, R = drawn.places[:, :2], drawn.reach                # two ends are near within the smaller of their reaches
     count = np.zeros(len(E), np.int64)
     if len(E):
-        i, j = pairs_within(drawn.places, drawn.places, drawn.reach.max())
-        count = np.bincount(i[np.linalg.norm(E[i] - E[j], axis=1) < drawn.reach[i]], minlength=len(E))
+        i, j = pairs_within(drawn.places, drawn.places, R.max())
+        count = np.bincount(i[np.linalg.norm(E[i] - E[j], axis=1) < np.minimum(R[i], R[j])], minlength=len(E))
 
     def crowds(x, reach):
-        near = np.linalg.norm(E - x, axis=1) < reach
+        near = np.linalg.norm(E - x, axis=1) < np.minimum(R, reach)
         return near.sum() + 1 > END_MOST or (count[near] + 1 > END_MOST).any(), near
 
     out, ends = [], []
@@ -205,7 +202,7 @@ def spread_ends(paper, strokes, rank, widest, drawn):
         for end in (a, b - 1):
             near = crowds(xy[end, :2], reach[end])[1]
             count[near] += 1
-            E, count = np.vstack([E, xy[end, :2]]), np.append(count, near.sum() + 1)
+            E, R, count = np.vstack([E, xy[end, :2]]), np.append(R, reach[end]), np.append(count, near.sum() + 1)
             ends.append((xy[end], reach[end]))
         out.append(s if (a, b) == (0, len(xy)) else
                    Stroke(s.points[a:b], s.radius[a:b], s.opacity[a:b], s.cyclic, s.dots, s.mark))
@@ -246,7 +243,7 @@ def widths(layer, hmap, P, N, T, level, key, spread=None):
     with np.errstate(divide="ignore"):
         lam = np.log2(np.maximum(c * S0, 1e-300) / W)
     if spread is not None:
-        full = np.clip(np.ceil(lam) - 1, 0, last).astype(np.int64)      # the set drawn full width there
+        full = np.clip(np.nan_to_num(np.ceil(lam) - 1), 0, last).astype(np.int64)   # the set drawn full width there
         with np.errstate(divide="ignore"):
             lam = np.log2(np.maximum(c * S0 * spread[np.arange(len(P)), full], 1e-300) / W)
     m = np.clip(np.ceil(lam) - 1, 0, last)

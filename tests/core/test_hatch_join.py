@@ -72,6 +72,17 @@ def test_lines_that_do_not_meet_end_to_end_stay_apart():
         assert len(out) == len(lines), name
 
 
+def test_a_line_across_a_gap_shorter_than_a_step_keeps_the_ends_apart():
+    g = gap_angle(1.2)
+    t = 1.0 + g / 2
+    p = np.c_[np.full(9, np.cos(t)), np.full(9, np.sin(t)), np.linspace(-0.2, 0.2, 9)]
+    p = p / np.linalg.norm(p, axis=1, keepdims=True) * R
+    across = (p, p / R, 0, np.uint64(3))
+    lines = [arc(0.0, 1.0), arc(1.0 + g, 1.5 + g)]
+    assert len(HJ.join(EV, lines, SPACING, 2.0 * SPACING)) == 1          # (no bridge points: the chord is tested)
+    assert len(HJ.join(EV, lines + [across], SPACING, 2.0 * SPACING)) == 3
+
+
 def test_a_ring_is_not_closed():
     g = gap_angle(1.0)
     half = np.pi - g

@@ -1,6 +1,8 @@
 """Hatching lines that run into one corner end one after another, not in a blot
 (strokes.hatching.spread_ends): no more than END_MOST ends within END_REACH line widths
 of any end, over the parts of a layer; the lines ranked first keep their length."""
+import os
+
 import numpy as np
 
 from blobtree_ink.strokes import hatching as HT
@@ -57,3 +59,30 @@ def test_lines_whose_ends_stand_apart_are_left_as_they_are():
                     np.ones(20), mark=k) for k in range(20)]          # parallel, 10 widths apart
     out = HT.spread_ends(PAPER, lines, np.arange(20), WIDEST, Placed())
     assert len(out) == 20 and all(a is b for a, b in zip(out, lines))
+
+
+def test_a_look_drawn_in_parts_of_a_few_lines_is_the_one_drawn_at_once(monkeypatch):
+    """Where ends crowd, lines give way in the map's order whichever part they are drawn
+    in: the jug's hatching drawn five map lines a part is the one drawn whole."""
+    from blobtree_ink import model as M
+    from blobtree_ink import pipeline as PL
+    from blobtree_ink.blackboard.view import View
+    from blobtree_ink.pipeline import layers as LY
+    from blobtree_ink.strokes import style as ST
+
+    def hatching():
+        ev = M.Evaluator(M.load(os.path.join(os.path.dirname(__file__), "..", "..", "examples", "jug.json")))
+        centre, radius = PL.bounds(ev)
+        eye = PL.three_quarter_eye(centre, radius)
+        light = tuple(PL.default_light(centre, eye))
+        outlines = PL.Illustration(PL.Job(ev, view=View(eye=eye), light=light)).run().strokes
+        lines = [s for name in ("Silhouette", "Crease") for s in outlines.layers.get(name, ())]
+        job = PL.Job(ev, view=View(eye=eye), light=light, style=ST.style("hatched"),
+                     requests=(PL.Request(PL.PLACE_STROKES),), lines=tuple(lines))
+        return PL.Illustration(job).run().strokes.layers["Hatching"]
+    whole = hatching()
+    monkeypatch.setattr(LY, "CHUNK_LINES", 5)
+    parts = hatching()
+    assert len(whole) > 50 and len(parts) == len(whole)
+    assert all(np.array_equal(a.points, b.points) and np.array_equal(a.radius, b.radius)
+               for a, b in zip(whole, parts))

@@ -108,7 +108,7 @@ def test_silhouette_shading_reaches_as_far_into_the_shade_as_the_light_asks(name
 
 def test_silhouette_shading_strokes_run_from_the_silhouette_towards_where_the_sphere_faces_the_eye():
     """On a lit sphere a stroke from the silhouette turns on past 60 degrees (the
-    smarticles' usual limit, where the strokes used to stop in a ring and start again)."""
+    smarticles' usual limit: strokes stopped there would leave a ring of gaps)."""
     ev, eye, light, lines, cam, lit = scene("lit sphere")
     layers, _, _ = Q.drawing(ev, eye, light, ST.style("silhouette-shading"), lines, 0)
     turned = []
