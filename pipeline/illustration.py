@@ -278,11 +278,12 @@ class Illustration:
             self._parts = None
             self._next()
 
-    def _line_layer(self, stage, parts, draw, marks=None, **kw):
+    def _line_layer(self, stage, parts, draw, marks=None, keep_lines=False, **kw):
         """A layer of lines spaced on the paper (strokes.hatching) in parts, its lines so
-        far kept over them (the cross-hatching's with the hatching's: their ends share
-        the paper), ended at the visible outlines."""
-        if self._parts is None and not (self.stage == "cross-hatching" and self._lines is not None):
+        far kept over them (with ``keep_lines``, the layer's before it too: the
+        cross-hatching's ends share the paper with the hatching's), ended at the visible
+        outlines."""
+        if self._parts is None and not (keep_lines and self._lines is not None):
             self._lines = Placed()
         self._stroke_layer(STYLE_LAYERS[stage], parts, draw, marks, lines=self._lines,
                            outlines=self._drawn_lines(), seed=self.job.seed, **kw)
@@ -292,7 +293,7 @@ class Illustration:
 
         def parts(cv, sampling, marks, st, region):
             return LY.map_parts(cross)(cv, sampling, marks, st, region, seed)
-        self._line_layer("hatching", parts, LY.hatching, "hatching", cross=cross)
+        self._line_layer("hatching", parts, LY.hatching, "hatching", keep_lines=cross, cross=cross)
 
     def _cross_hatching(self):
         self._hatching(cross=True)

@@ -40,6 +40,7 @@ WRAP = np.radians(85.0)     # a line ends where its normal has turned this far f
 FLOCK_APART = 0.5       # flocks' seeds stand half a spacing times the flock size to this power apart: flocks
                         # overlap (their lines cut where they meet) so that a small part still gets one
 AGREE = 0.3             # lines whose normals' cosine is below this are on other sheets: never too close
+BESIDE = 0.6            # steps: a neighbour's point is beside a point within this far along the point's line
 SPREAD_REACH = 2.0       # a line's neighbours are looked for this many of its set's spacings to either side (a side
                         # with none counts as that far)
 ONTO = 3                # Newton steps that put a seed beside a line onto the surface
@@ -114,7 +115,7 @@ def spread(hmap):
         i, j = rows[i], rows[j]
         dp = P[j] - P[i]
         along = np.einsum("ij,ij->i", dp, T[i])
-        keep = (line[i] != line[j]) & (np.einsum("ij,ij->i", N[i], N[j]) > AGREE) & (np.abs(along) <= 0.6 * step)
+        keep = (line[i] != line[j]) & (np.einsum("ij,ij->i", N[i], N[j]) > AGREE) & (np.abs(along) <= BESIDE * step)
         i, dp = i[keep], dp[keep]
         across = np.einsum("ij,ij->i", dp, S[i])
         left, right = np.full(n, reach), np.full(n, reach)
