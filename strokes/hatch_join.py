@@ -84,16 +84,15 @@ def _edges(ev, lines, ends, spacing, step):
             a = root[a]
         return a
 
+    i, j = i[order], j[order]
+    bridges = _bridges(ev, E[i], E[j], step)
     used = np.zeros(len(E), bool)
     out = []
-    for k in order.tolist():
+    for k in range(len(i)):
         a, b = int(i[k]), int(j[k])
-        if used[a] or used[b] or find(a // 2) == find(b // 2):
+        if used[a] or used[b] or find(a // 2) == find(b // 2) or bridges[k] is None:
             continue
-        bridge = _bridge(ev, E[a], E[b], step)
-        if bridge is None:
-            continue
-        X, Nx = bridge
+        X, Nx = bridges[k]
         if crossed(a, b, X, level[a]):
             continue
         used[a] = used[b] = True
@@ -102,22 +101,24 @@ def _edges(ev, lines, ends, spacing, step):
     return out
 
 
-def _bridge(ev, a, b, step):
-    """Points on the surface between ends a and b, about ``step`` apart (none for a gap
-    of one step), and their normals; None where they do not reach the surface."""
-    k = int(np.ceil(np.linalg.norm(b - a) / step))
-    if k < 2:
-        return np.zeros((0, 3)), np.zeros((0, 3))
-    s = np.arange(1, k)[:, None] / k
-    X, f, g = project(ev, a + s * (b - a), ONTO)
-    if not on_surface(f, ev.iso, NEAR_SURFACE).all():
-        return None
-    return X, -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+def _bridges(ev, A, B, step):
+    """Per gap from A to B: points on the surface between its ends, about ``step`` apart
+    (none for a gap of one step), and their normals; None where they do not reach the
+    surface. All gaps' points are put onto it together."""
+    k = np.ceil(np.linalg.norm(B - A, axis=1) / step).astype(np.int64)
+    inner = np.where(k < 2, 0, k - 1)                     # points inside each gap
+    gap = np.repeat(np.arange(len(A)), inner)
+    s = (np.arange(len(gap)) - np.repeat(np.cumsum(inner) - inner, inner) + 1) / k[gap]
+    X, f, g = project(ev, A[gap] + s[:, None] * (B - A)[gap], ONTO)
+    Nx = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+    off = np.bincount(gap[~on_surface(f, ev.iso, NEAR_SURFACE)], minlength=len(A))
+    at = np.cumsum(inner) - inner
+    return [None if off[q] else (X[at[q]:at[q] + inner[q]], Nx[at[q]:at[q] + inner[q]]) for q in range(len(A))]
 
 
 def _chains(ev, lines, edges):
     """The lines joined along the edges into chains, each walked from a free end, and
-    smoothed about each join (:func:`_smoothed`)."""
+    eased about each join (:func:`_smoothed`)."""
     link = {}
     for a, b, X, Nx in edges:
         link[a] = (b, X, Nx)
@@ -143,25 +144,40 @@ def _chains(ev, lines, edges):
         P, N = np.concatenate([p for p, _, _, _ in parts]), np.concatenate([n for _, n, _, _ in parts])
         at = np.cumsum([len(p) for p, _, _, _ in parts])
         joins = [(at[i - 1] - 1, at[i]) for i in range(1, len(parts), 2)]     # each bridge's ends' rows
-        out.append((*_smoothed(ev, P, N, joins), lines[k][2], key))
-    return out
+        out.append((P, N, joins, lines[k][2], key))
+    return _smoothed(ev, out)
 
 
-def _smoothed(ev, P, N, joins):
-    """A joined line's points (and normals) eased about each join: SMOOTH_POINTS either
-    side of the bridge averaged with their neighbours SMOOTH_TIMES, put back onto the
-    surface, so that a line meeting one a little to its side bends over to it instead
-    of stepping across."""
-    if not joins:
-        return P, N
-    rows = np.unique(np.concatenate([np.arange(max(a - SMOOTH_POINTS + 1, 1), min(b + SMOOTH_POINTS, len(P) - 1))
-                                     for a, b in joins]))
-    S = P.copy()
-    for _ in range(SMOOTH_TIMES):
-        S[rows] = 0.25 * S[rows - 1] + 0.5 * S[rows] + 0.25 * S[rows + 1]
-    X, f, g = project(ev, S[rows], ONTO)
+def _smoothed(ev, chains):
+    """The joined lines (points, normals, joins, level, key) as lines, their points (and
+    normals) eased about each join: SMOOTH_POINTS either side of the bridge averaged
+    with their neighbours SMOOTH_TIMES, put back onto the surface (all lines' together),
+    so that a line meeting one a little to its side bends over to it instead of
+    stepping across."""
+    eased = []
+    for P, N, joins, _, _ in chains:
+        if not joins:
+            eased.append(np.zeros(0, np.int64))
+            continue
+        rows = np.unique(np.concatenate([np.arange(max(a - SMOOTH_POINTS + 1, 1), min(b + SMOOTH_POINTS, len(P) - 1))
+                                         for a, b in joins]))
+        eased.append(rows)
+    S = []
+    for (P, _, _, _, _), rows in zip(chains, eased):
+        Q = P.copy()
+        for _ in range(SMOOTH_TIMES):
+            Q[rows] = 0.25 * Q[rows - 1] + 0.5 * Q[rows] + 0.25 * Q[rows + 1]
+        S.append(Q[rows])
+    X, f, g = project(ev, np.concatenate(S) if S else np.zeros((0, 3)), ONTO)
     ok = on_surface(f, ev.iso, NEAR_SURFACE)                 # (a point that does not reach it stays as it was)
-    P, N = P.copy(), N.copy()
-    P[rows[ok]] = X[ok]
-    N[rows[ok]] = -g[ok] / np.maximum(np.linalg.norm(g[ok], axis=1, keepdims=True), 1e-300)
-    return P, N
+    Nx = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+    out, at = [], 0
+    for (P, N, _, level, key), rows in zip(chains, eased):
+        here = slice(at, at + len(rows))
+        at += len(rows)
+        if len(rows):
+            P, N = P.copy(), N.copy()
+            P[rows[ok[here]]] = X[here][ok[here]]
+            N[rows[ok[here]]] = Nx[here][ok[here]]
+        out.append((P, N, level, key))
+    return out

@@ -35,6 +35,8 @@ SEED_EVERY = 2          # ... at every this many of its steps
 GENERATIONS = 2         # rounds of seeds beside the lines of a level, at most
 MOST_POINTS = 60_000   # a map of this many points takes no more lines (its finer levels are left sparser)
 SHORTEST_LINE = 6       # points: a map's line cut shorter is not kept (a scrap, not a line)
+TAKE_BLOCK = 64         # a generation's lines are taken this many at a time (a block is tested against the lines
+                        # taken before it and its own, not against every line grown)
 BEND = np.cos(np.radians(45.0))     # a line ends where it would turn more than this in a step (a knot of the field)
 WRAP = np.radians(85.0)     # a line ends where its normal has turned this far from its seed's (round a tube)
 FLOCK_APART = 0.5       # flocks' seeds stand half a spacing times the flock size to this power apart: flocks
@@ -253,37 +255,50 @@ def _generation(ev, acc, P, N, H, keys, rank, d, level, flow, step, steps, weigh
 
 
 def _take(acc, lines, d, level):
-    """The lines of a generation taken in order (:func:`_generation`)."""
+    """The lines of a generation taken in order (:func:`_generation`): each cut where it
+    comes within TEST ``d`` of a line taken before it, dropped where its seed does. The
+    lines are looked at TAKE_BLOCK at a time, against the kept points of the lines taken
+    so far and the block's own."""
     if not lines:
         return []
     sizes = np.array([len(p) for p, _, _, _ in lines])
-    owner = np.repeat(np.arange(len(lines)), sizes)
-    local = np.arange(len(owner)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    first = np.cumsum(sizes) - sizes
     seed = np.array([s for _, _, s, _ in lines])
     P = np.concatenate([p for p, _, _, _ in lines])
     N = np.concatenate([n for _, n, _, _ in lines])
-    i, j = pairs_within(P, P, TEST * d)
-    keep = (owner[i] > owner[j]) & (np.einsum("ij,ij->i", N[i], N[j]) > AGREE)
-    i, j = i[keep], j[keep]
-    starts = np.searchsorted(owner[i], np.arange(len(lines) + 1))
+    owner = np.repeat(np.arange(len(lines)), sizes)
+    local = np.arange(len(owner)) - first[owner]
     lo, hi = np.zeros(len(lines), np.int64), sizes.copy()
     taken = np.zeros(len(lines), bool)
+    kept = np.zeros(0, np.int64)                         # rows of the taken lines' kept points
     out = []
-    for k in range(len(lines)):
-        a, b = i[starts[k]:starts[k + 1]], j[starts[k]:starts[k + 1]]
-        alive = taken[owner[b]] & (local[b] >= lo[owner[b]]) & (local[b] < hi[owner[b]])
-        pos = local[a[alive]]
-        if (pos == seed[k]).any():
-            hi[k] = 0
-            continue
-        ahead, behind = pos[pos > seed[k]], pos[pos < seed[k]]
-        hi[k] = ahead.min() if len(ahead) else hi[k]
-        lo[k] = behind.max() + 1 if len(behind) else 0
-        taken[k] = hi[k] - lo[k] >= SHORTEST_LINE
-        if taken[k]:
-            p, n, s, key = lines[k]
-            acc.add(p[lo[k]:hi[k]], n[lo[k]:hi[k]], level, key, np.arange(lo[k], hi[k]) - s)
-            out.append(len(acc.lines) - 1)
+    for b0 in range(0, len(lines), TAKE_BLOCK):
+        b1 = min(b0 + TAKE_BLOCK, len(lines))
+        rows = np.arange(first[b0], first[b1 - 1] + sizes[b1 - 1])
+        others = np.concatenate([kept, rows])
+        i, j = pairs_within(P[rows], P[others], TEST * d)
+        i, j = rows[i], others[j]
+        keep = (owner[i] > owner[j]) & (np.einsum("ij,ij->i", N[i], N[j]) > AGREE)
+        i, j = i[keep], j[keep]
+        starts = np.searchsorted(owner[i], np.arange(b0, b1 + 1))
+        for k in range(b0, b1):
+            a, b = i[starts[k - b0]:starts[k - b0 + 1]], j[starts[k - b0]:starts[k - b0 + 1]]
+            alive = taken[owner[b]] & (local[b] >= lo[owner[b]]) & (local[b] < hi[owner[b]])
+            pos = local[a[alive]]
+            if (pos == seed[k]).any():
+                hi[k] = 0
+                continue
+            ahead, behind = pos[pos > seed[k]], pos[pos < seed[k]]
+            hi[k] = ahead.min() if len(ahead) else hi[k]
+            lo[k] = behind.max() + 1 if len(behind) else 0
+            taken[k] = hi[k] - lo[k] >= SHORTEST_LINE
+            if taken[k]:
+                p, n, s, key = lines[k]
+                acc.add(p[lo[k]:hi[k]], n[lo[k]:hi[k]], level, key, np.arange(lo[k], hi[k]) - s)
+                out.append(len(acc.lines) - 1)
+        done = np.arange(b0, b1)[taken[b0:b1]]
+        if len(done):
+            kept = np.concatenate([kept] + [np.arange(first[k] + lo[k], first[k] + hi[k]) for k in done])
     return out
 
 
