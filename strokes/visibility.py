@@ -19,6 +19,7 @@ import numpy as np
 
 from ..blackboard.polygonise import surface_box
 from ..model.projection import project
+from ..model.tolerances import on_surface
 
 
 MARCH_BATCH = 4096          # points a ray-march call aims at
@@ -30,6 +31,7 @@ FINE = 0.5              # a tone mark's rays are marched at this share of the st
                         # sliver of the model in front of it hides it; and it need not run on through a graze)
 END_HALVINGS = 5            # bisections of the step where a visible run ends (to 1/32 of the step)
 ONTO_STEPS = 4              # Newton steps that put such an end, on the step's chord, onto the surface
+CHORD_HALVINGS = 4          # ... halving its share of the step where they cannot (beside a sharp wedge)
 
 
 class Run(NamedTuple):
@@ -270,7 +272,7 @@ def _ends(sight, P, normals, eye, runs, first, sizes, check=None):
             Nq /= np.maximum(np.linalg.norm(Nq, axis=1, keepdims=True), 1e-300)
         seen = visible(sight, Q, eye, Nq)
         lo, hi = np.where(seen, s, lo), np.where(seen, hi, s)
-    X, _, _ = project(sight.ev, P[vis] + lo[:, None] * (P[hid] - P[vis]), ONTO_STEPS)     # off the chord's sag
+    X, lo = _onto_chord(sight.ev, P[vis], P[hid], lo)
     if check is not None:
         Nx = None if N is None else N[vis]
         lo = np.where(visible(sight, X, eye, Nx, step=check), lo, 0.0)
@@ -278,6 +280,27 @@ def _ends(sight, P, normals, eye, runs, first, sizes, check=None):
         if s > 0:
             out[k][j] = out[k][j]._replace(trail=s, tail=x) if side else out[k][j]._replace(lead=s, head=x)
     return out
+
+
+def _onto_chord(ev, A, B, s):
+    """Points at shares ``s`` of the chords from A to B (surface points) put onto the
+    surface: projected off the chord's sag; where that does not reach the surface (a
+    point beside a sharp wedge, where Newton stalls between its sheets) the share is
+    halved, nearer A, up to CHORD_HALVINGS times, and else 0 (A itself). Returns the
+    points and their shares."""
+    s = np.array(s, float)
+    X = np.array(A, float)
+    live = np.flatnonzero(s > 0)
+    for _ in range(CHORD_HALVINGS + 1):
+        if len(live) == 0:
+            break
+        Q, f, _ = project(ev, A[live] + s[live, None] * (B[live] - A[live]), ONTO_STEPS)
+        on = on_surface(f, ev.iso)
+        X[live[on]] = Q[on]
+        live = live[~on]
+        s[live] *= 0.5
+    s[live] = 0.0
+    return X, s
 
 
 def _runs(v, sizes, min_points):
