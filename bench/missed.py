@@ -10,7 +10,8 @@ import argparse
 import os
 import time
 
-import outlines as O  # bench/outlines.py: camera, ground truth, rasteriser
+import outlines as O  # bench/outlines.py: the paths, the examples
+import outlinemeasure as OM  # camera, ground truth, rasteriser
 import numpy as np
 from blobtree_ink import model as M
 from blobtree_ink.agents import Session, Settings
@@ -40,20 +41,19 @@ def main():
     for name in a.models.split(","):
         model = M.load(os.path.join(O.HERE, "..", "examples", f"{name}.json"))
         ev = M.Evaluator(model)
-        cam = O.Camera(ev)
-        O.CAM[0] = cam
+        cam = OM.Camera(ev)
         view = View(eye=cam.eye)
-        gt = O.ground_truth(ev, view, cam, a.gt_res)
+        gt = OM.ground_truth(ev, view, cam, a.gt_res)
         t0 = time.perf_counter()
         s = Session(model, view, Settings(resolution=a.grid, seed=a.seed))
         s.request("OUTLINES")
         s.run(seconds=a.limit)
         spent = time.perf_counter() - t0
-        lines = O.raster(cam, [o.points for o in s.outlines()])
-        got = O.dilate(lines) & gt
-        img = np.full((O.PX, O.PX, 3), 255, np.uint8)
+        lines = OM.raster(cam, OM.drawn(s.outlines()))
+        got = OM.dilate(lines) & gt
+        img = np.full((OM.PX, OM.PX, 3), 255, np.uint8)
         img[lines] = (170, 170, 170)
-        img[O.dilate(gt & ~got)] = (230, 0, 0)
+        img[OM.dilate(gt & ~got)] = (230, 0, 0)
         img[got] = (0, 170, 0)
         path = os.path.join(a.out, f"{name}-missed.png")
         write_png(path, img)

@@ -1,7 +1,8 @@
-"""Feature-outline coverage over time: MASSRIS against the WH particle baseline.
+"""Feature-outline coverage over time: MASSRIS against the WH particle baseline; or,
+with --views, MASSRIS run to its end from views all round each model.
 
-    python bench/outlines.py [--models heart,train,shell] [--gt-res 256] [--limit 60]
-                             [--grid N] [--agents N]
+    python bench/outlines.py [--models heart,train,shell|all] [--gt-res 256] [--limit 60]
+                             [--grid N] [--agents N] [--no-baseline] [--views N]
 
 Ground truth: silhouette and crease points of a dense polygonisation (about --gt-res^3
 cubic cells over the model), projected into a 1024-pixel image from a fixed three-quarter
@@ -15,8 +16,14 @@ budgets slow it down, each particle step costing the same). After each slice the
 of ground-truth pixels within 1 pixel of its traced outlines is measured (measuring is
 not timed). Prints the time each method needs to reach 95 % and the ratio, and saves
 the curves to bench/outlines.png.
+
+--views N (8 or more) runs MASSRIS to its end (or --limit) from N views, azimuths 360/N
+apart and elevations cycling through -30, 0, 30 and 60 degrees, at the distance of the
+three-quarter view, and prints per view its coverage, precision, gaps, dangling ends and
+seconds, then each model's worst (bench/README.md says what each means).
 """
 import argparse
+import glob
 import os
 import sys
 import time
@@ -29,89 +36,26 @@ import pure  # noqa: E402
 pure.install()
 import numpy as np  # noqa: E402
 from blobtree_ink import model as M  # noqa: E402
-from blobtree_ink.model.vectors import cross  # noqa: E402
 from blobtree_ink.agents import Session, Settings  # noqa: E402
 from blobtree_ink.agents.baseline import Baseline  # noqa: E402
-from blobtree_ink.agents.surface import Surface  # noqa: E402
-from blobtree_ink.agents.tracer import refine_seeds  # noqa: E402
-from blobtree_ink.blackboard.board import KIND_ID  # noqa: E402
-from blobtree_ink.blackboard.edges import DEFAULT_CREASE_ANGLE, process_edges  # noqa: E402
-from blobtree_ink.blackboard.polygonise import polygonise, surface_box  # noqa: E402
 from blobtree_ink.blackboard.view import View  # noqa: E402
+from outlinemeasure import (Camera, coverage, dangling_ends, drawn, gaps, ground_truth, precision,  # noqa: E402
+                            raster, towards, view_truth, views)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-PX = 1024
+EXAMPLES = os.path.join(HERE, "..", "examples")
 RES = {"heart": 20, "train": 15, "shell": 25}      # the papers' grid resolutions
 
 
-class Camera:
-    def __init__(self, ev):
-        lo, hi = surface_box(ev)
-        self.c = 0.5 * (lo + hi)
-        r = 0.5 * np.linalg.norm(hi - lo)
-        d = np.array([1.0, -1.4, 0.8])
-        d /= np.linalg.norm(d)
-        self.eye = self.c + 3.0 * r * d
-        self.f = -d
-        self.right = cross(self.f, [0, 0, 1.0])
-        self.right /= np.linalg.norm(self.right)
-        self.up = cross(self.right, self.f)
-        self.half = r / (3.0 * r) * 1.05             # tan of the half field of view
-
-    def pixels(self, P):
-        v = P - self.eye
-        z = v @ self.f
-        x = (v @ self.right) / z / self.half
-        y = (v @ self.up) / z / self.half
-        return np.stack([(x + 1) * PX / 2, (1 - y) * PX / 2], axis=1)
+def grid_for(a, name):
+    """The MASSRIS grid: --grid, else the papers' for the model, else the session's."""
+    return a.grid or RES.get(name, Settings.resolution)
 
 
-def raster(cam, polylines):
-    """Pixels the polylines pass through (segments sampled every quarter pixel, vectorised)."""
-    img = np.zeros((PX, PX), bool)
-    segs = []
-    for P in polylines:
-        q = cam.pixels(np.vstack([P, P]) if len(P) == 1 else P)
-        segs.append(np.stack([q[:-1], q[1:]], axis=1))
-    if not segs:
-        return img
-    S = np.concatenate(segs)                                    # (m, 2, 2)
-    L = np.linalg.norm(S[:, 1] - S[:, 0], axis=1)
-    k = np.maximum(2, (4 * L).astype(int) + 2)
-    seg = np.repeat(np.arange(len(S)), k)
-    t = (np.arange(k.sum()) - np.repeat(np.cumsum(k) - k, k)) / np.repeat(k - 1, k)
-    pts = S[seg, 0] + t[:, None] * (S[seg, 1] - S[seg, 0])
-    ij = np.round(pts).astype(int)
-    ok = (ij[:, 0] >= 0) & (ij[:, 0] < PX) & (ij[:, 1] >= 0) & (ij[:, 1] < PX)
-    img[ij[ok, 1], ij[ok, 0]] = True
-    return img
-
-
-def dilate(img):
-    out = img.copy()
-    for dx in (-1, 0, 1):
-        for dy in (-1, 0, 1):
-            out |= np.roll(np.roll(img, dx, 0), dy, 1)
-    return out
-
-
-def ground_truth(ev, view, cam, res):
-    mesh = polygonise(ev, res)
-    f, g = ev.field_grad(mesh.vertices)
-    n = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
-    feats = process_edges(mesh, n, np.ones(len(n)), view)
-    _, a, b = feats["crease"]
-    surf = Surface(ev, view)
-    crease = np.full(len(a), KIND_ID["crease"], np.int64)
-    X, _, _, _, _, _, real, _, _ = refine_seeds(surf, crease, a, b, 1e-8 * ev.scale, DEFAULT_CREASE_ANGLE)
-    print(f"  ground truth: {len(feats['silhouette'][0])} silhouette points, {int(real.sum())} of "
-          f"{len(a)} crease candidates are creases", flush=True)
-    pts = np.concatenate([feats["silhouette"][0], X[real]])
-    img = np.zeros((PX, PX), bool)
-    ij = np.round(cam.pixels(pts)).astype(int)
-    ok = (ij[:, 0] >= 0) & (ij[:, 0] < PX) & (ij[:, 1] >= 0) & (ij[:, 1] < PX)
-    img[ij[ok, 1], ij[ok, 0]] = True
-    return img
+def massris(model, view, grid, agents):
+    s = Session(model, view, Settings(resolution=grid, agents=agents))
+    s.request("OUTLINES")
+    return s
 
 
 def curve(gt, make, step_fn, outlines_fn, limit):
@@ -123,7 +67,7 @@ def curve(gt, make, step_fn, outlines_fn, limit):
         t = time.perf_counter()
         more = step_fn(obj)
         spent += time.perf_counter() - t
-        cov = (dilate(raster(CAM[0], [o.points for o in outlines_fn(obj)])) & gt).sum() / max(gt.sum(), 1)
+        cov = coverage(gt, raster(CAM[0], [o.points for o in outlines_fn(obj)]))
         pts.append((spent, cov))
         if cov >= 0.95 or more is False:
             break
@@ -162,30 +106,18 @@ def png(path, series, limit):
                  chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--models", default="heart,train,shell")
-    ap.add_argument("--gt-res", type=int, default=256)
-    ap.add_argument("--limit", type=float, default=60.0)
-    ap.add_argument("--grid", type=int, default=None, help="MASSRIS grid (default: the papers' per model)")
-    ap.add_argument("--agents", type=int, default=Settings.agents, help="MASSRIS agents (default: the session's)")
-    ap.add_argument("--no-baseline", action="store_true", help="run MASSRIS only (the baseline takes the limit); no plot is saved")
-    a = ap.parse_args()
+def race(a, names):
     series = []
     print(f"{'model':7} {'GT px':>7} {'MASSRIS t95':>12} {'baseline t95':>13} {'ratio':>7}  final coverage")
-    for name in a.models.split(","):
-        model = M.load(os.path.join(HERE, "..", "examples", f"{name}.json"))
+    for name in names:
+        model = M.load(os.path.join(EXAMPLES, f"{name}.json"))
         ev = M.Evaluator(model)
         cam = Camera(ev)
         CAM[0] = cam
         view = View(eye=cam.eye)
         gt = ground_truth(ev, view, cam, a.gt_res)
-
-        def make_massris():
-            s = Session(model, view, Settings(resolution=a.grid or RES.get(name, 20), agents=a.agents))
-            s.request("OUTLINES")
-            return s
-        mas = curve(gt, make_massris, lambda s: (s.step(), not s.done)[1], lambda s: s.outlines(), a.limit)
+        mas = curve(gt, lambda: massris(model, view, grid_for(a, name), a.agents),
+                    lambda s: (s.step(), not s.done)[1], lambda s: s.outlines(), a.limit)
         base = None if a.no_baseline else curve(
             gt, lambda: Baseline(model, view, particles=1000), lambda b: b.step(budget=2.0),
             lambda b: b.outlines(), a.limit)
@@ -201,6 +133,71 @@ def main():
     png(os.path.join(HERE, "outlines.png"), series, a.limit)
     print("curves saved to bench/outlines.png (MASSRIS then baseline per model, in model order; "
           "x: seconds up to the limit, y: coverage, grey: 95 %)")
+
+
+def to_end(make, limit):
+    """A session made and run to its end or to limit seconds, its construction included:
+    the session, its seconds and whether it ended by itself."""
+    t0 = time.perf_counter()
+    s = make()
+    s.run(seconds=max(limit - (time.perf_counter() - t0), 0.0))
+    return s, time.perf_counter() - t0, s.done
+
+
+def one_view(a, name, model, ev, azimuth, elevation):
+    """A row of the views table for one view of a model."""
+    cam = Camera(ev, towards(azimuth, elevation))
+    view = View(eye=cam.eye)
+    gt, line, near = view_truth(ev, view, cam, a.gt_res)
+    s, spent, done = to_end(lambda: massris(model, view, grid_for(a, name), a.agents), a.limit)
+    outs = s.outlines()
+    traced = raster(cam, drawn(outs))
+    return (coverage(gt, traced), precision(near, traced), gaps(line, traced), dangling_ends(cam, outs),
+            spent, done)
+
+
+ROW = "{:14} {:>5} {:>5} {:>8} {:>9} {:>5} {:>8} {:>8} {:>6}"
+
+
+def row(name, az, el, cov, prec, gap, ends, spent, ended):
+    print(ROW.format(name, az, el, f"{cov:.3f}", f"{prec:.3f}", gap, ends, f"{spent:.2f}", ended), flush=True)
+
+
+def around(a, names):
+    print(ROW.format("model", "az", "el", "coverage", "precision", "gaps", "dangling", "seconds", "ended"))
+    worst = []
+    for name in names:
+        model = M.load(os.path.join(EXAMPLES, f"{name}.json"))
+        ev = M.Evaluator(model)
+        rows = []
+        for az, el in views(a.views):
+            rows.append(one_view(a, name, model, ev, az, el))
+            row(name, f"{az:.0f}", f"{el:.0f}", *rows[-1][:-1], "done" if rows[-1][-1] else "limit")
+        cov, prec, gap, ends, spent, done = zip(*rows)
+        worst.append((name, min(cov), min(prec), max(gap), max(ends), max(spent),
+                      f"{done.count(False)} limit" if False in done else "done"))
+    print(f"\nworst over the {a.views} views of each model")
+    print(ROW.format("model", "", "", "coverage", "precision", "gaps", "dangling", "seconds", "ended"))
+    for name, *w in worst:
+        row(name, "", "", *w)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--models", default="heart,train,shell", help="comma-separated examples, or all")
+    ap.add_argument("--gt-res", type=int, default=256)
+    ap.add_argument("--limit", type=float, default=60.0)
+    ap.add_argument("--grid", type=int, default=None, help="MASSRIS grid (default: the papers' per model)")
+    ap.add_argument("--agents", type=int, default=Settings.agents, help="MASSRIS agents (default: the session's)")
+    ap.add_argument("--no-baseline", action="store_true", help="run MASSRIS only (the baseline takes the limit); no plot is saved")
+    ap.add_argument("--views", type=int, default=None,
+                    help="run MASSRIS to its end from N (8 or more) views all round each model instead")
+    a = ap.parse_args()
+    if a.views is not None and a.views < 8:
+        ap.error("--views needs 8 or more views")
+    names = a.models.split(",") if a.models != "all" else sorted(
+        os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(EXAMPLES, "*.json")))
+    (race if a.views is None else around)(a, names)
 
 
 if __name__ == "__main__":
