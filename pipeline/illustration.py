@@ -167,6 +167,9 @@ class Illustration:
         centre, radius = bounds(self.ev)
         self.centre = centre
         self.eye = view_eye(j.view, centre, radius)
+        if self.ev.field(self.eye[None])[0] >= self.ev.iso:
+            raise JobError(f"the eye at ({', '.join(f'{x:.3g}' for x in self.eye)}) is inside the model: it sees "
+                           "only the inside of its surface; move the camera (or the view) out of it")
         if j.light is not None:
             light = np.asarray(j.light, float)
         elif j.light_at is not None and np.linalg.norm(np.asarray(j.light_at, float) - centre) > 0:
@@ -232,6 +235,9 @@ class Illustration:
 
     def _outlines(self):
         self.outline_set = LY.outlines(self.canvas, self.sampling, self.style)
+        if self.sampling.outlines and self.canvas.sight is not None and not any(self.outline_set.layers.values()):
+            self.warnings.append("nothing of the model is seen from the eye: every outline of it is hidden by the "
+                                 "models in front of it")
         for name, strokes in self.outline_set.layers.items():
             if name in self.job.owned_layers():
                 self.layers[name] = strokes

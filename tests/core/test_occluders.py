@@ -139,3 +139,19 @@ def test_a_thin_occluder_before_a_big_model_is_not_stepped_over():
     assert np.abs(P[:, 0]).max() < 1e-9 and np.abs(P[:, 2]).max() < 20
     assert not visible(Sight(big, ((rod, rod_at),)), P, eye).any()
     assert visible(big, P, eye).all()                                                  # the model alone: all seen
+
+
+def test_a_model_wholly_hidden_by_another_is_said():
+    """A small ball behind a big one, seen past it: nothing of the small ball is drawn,
+    and the result says why (not an empty drawing without a word)."""
+    small = M.from_dict({"format": "blobtree-1", "root": {"type": "point", "center": [0, 0, 0], "radius": 0.5}})
+    big_at = np.eye(4)
+    big_at[:3, 3] = [0.0, 4.0, 0.0]          # model point p is the big ball's point p + (0, 4, 0): it stands at y = -4
+    big = M.from_dict({"format": "blobtree-1", "root": {"type": "point", "center": [0, 0, 0], "radius": 3.0}})
+    job = PL.Job(small, View(eye=np.array([0.0, -12.0, 0.0])), requests=(PL.Request("OUTLINES"),),
+                 style=ST.style("outlines"), occluders=((big, big_at),))
+    res = PL.Illustration(job).run()
+    assert not any(res.strokes.layers.values())
+    assert any("nothing of the model is seen" in w for w in res.warnings)
+    alone = PL.Illustration(dataclasses.replace(job, occluders=())).run()
+    assert alone.strokes.layers["Silhouette"] and not any("nothing of" in w for w in alone.warnings)

@@ -173,6 +173,14 @@ def test_a_light_inside_the_model_is_named():
         PL.Illustration(job).run()
 
 
+def test_an_eye_inside_the_model_is_named():
+    ev = M.Evaluator(small("lit sphere"))
+    job = PL.Job(ev, View(eye=np.array([0.1, 0.0, 0.0])), style=ST.style("stippled"),
+                 requests=(PL.Request("OUTLINES"), PL.Request("PLACE_STROKES")))
+    with pytest.raises(PL.JobError, match="the eye .* is inside the model"):
+        PL.Illustration(job).run()
+
+
 def test_cast_shadows_darken_what_the_model_hides_from_the_sun():
     """A small ball on a big one, the sun straight above: the big ball's top, under the
     small one, is in its shadow; beside it, lit."""
