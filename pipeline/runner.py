@@ -210,7 +210,10 @@ class Runner:
 
     def check(self):
         """Raise the worker's exception, if it had one (its traceback printed first: the
-        message alone does not say where it came from)."""
+        message alone does not say where it came from); bad input found as the run
+        began (a ValueError: an eye or a light inside the model) is said in its own
+        words."""
         if self._error is not None:
             traceback.print_exception(self._error)
-            raise RunnerError(f"the illustration failed: {self._error!r}") from self._error
+            said = str(self._error) if isinstance(self._error, ValueError) else repr(self._error)
+            raise RunnerError(f"the illustration failed: {said}") from self._error

@@ -3,6 +3,7 @@ the caller, results published while it runs, the initialisation on the worker, s
 keeps what was made (with the outlines' hidden lines removed), cancel and errors reach
 the caller, join is bounded, the switch interval always comes back. The worker is held
 between steps by the runner's test hook, never raced against a clock."""
+import dataclasses
 import sys
 import threading
 
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 
 from blobtree_ink import pipeline as PL
+from blobtree_ink.blackboard.view import View
 from blobtree_ink.pipeline import runner as RN
 from helpers import job_for, same_strokes
 
@@ -201,3 +203,12 @@ def test_the_hook_holds_a_worker_in_the_middle_of_a_layer(load_example, monkeypa
     r.join()
     got = r.latest()
     assert got.stopped and got.owned == ("Hatching",) and ill.position()[0] == "done"
+
+
+def test_an_eye_inside_the_model_reaches_the_caller_in_its_own_words(load_example):
+    job = job_for(load_example, "torus", "outlines")
+    ill = PL.Illustration(dataclasses.replace(job, view=View(eye=np.array([1.0, 0.0, 0.0]))))    # in the ring
+    r = RN.Runner(ill).start()
+    r.join()
+    with pytest.raises(RN.RunnerError, match=r"the illustration failed: the eye at \(1, 0, 0\) is inside the model"):
+        r.check()
