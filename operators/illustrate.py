@@ -209,7 +209,7 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
             return self._failed(e)
         try:
             result = self.illustration.run()
-        except START_ERRORS as e:          # (an eye or a light inside the model: found as it begins; nothing drawn)
+        except (PL.JobError, PL.NothingToDraw) as e:    # (a light inside the model: found as it begins; nothing drawn)
             return self._failed(e)
         finally:
             region_overlay.show(self.tree_key, [])

@@ -28,6 +28,16 @@ class NothingToDraw(ValueError):
     """The model has no surface (its field never reaches iso)."""
 
 
+def inside(ev, p):
+    """Whether a point lies inside the model (on its surface counts)."""
+    return bool(ev.field(np.asarray(p, float).reshape(1, 3))[0] >= ev.iso)
+
+
+def point_text(p):
+    """A point as messages give it: (x, y, z) to three figures."""
+    return f"({', '.join(f'{x:.3g}' for x in p)})"
+
+
 def bounds(ev):
     """Centre and radius of the model's surface box (NothingToDraw where there is none)."""
     box = surface_box(ev)

@@ -1,7 +1,6 @@
 """The illustration pipeline: a resumable stepper from a :class:`~.job.Job` to plain
-strokes by layer. The modal operator (on its worker thread), the background operator,
-and the command line all drive this one stepper, so the same job
-gives the same strokes whichever path draws.
+strokes by layer. The modal operator (on its worker thread), the background operator
+and the command line drive this one stepper: one job, the same strokes on each path.
 
     ill = Illustration(job)            # cheap: nothing is computed yet
     while ill.step(): ...              # each step is one unit of work
@@ -32,7 +31,7 @@ from ..strokes.paper import Placed
 from . import hiding as HD
 from . import layers as LY
 from .continuation import Continuation
-from .framing import bounds, default_light, line_radius, stroke_unit, view_eye
+from .framing import bounds, default_light, inside, line_radius, point_text, stroke_unit, view_eye
 from .job import FIND_FEATURES, JobError, OUTLINES, PLACE_STROKES, SINGLE_LAYER, SINGLE_STROKE, STYLE_LAYERS, Around
 from .result import Progress, Result
 
@@ -167,16 +166,16 @@ class Illustration:
         centre, radius = bounds(self.ev)
         self.centre = centre
         self.eye = view_eye(j.view, centre, radius)
-        if self.ev.field(self.eye[None])[0] >= self.ev.iso:
-            raise JobError(f"the eye at ({', '.join(f'{x:.3g}' for x in self.eye)}) is inside the model: it sees "
-                           "only the inside of its surface; move the camera (or the view) out of it")
+        if inside(self.ev, self.eye):       # (an empty drawing: a frame of a camera passing through is one)
+            self.warnings.append(f"the eye at {point_text(self.eye)} is inside the model: it sees nothing of it; "
+                                 "move the camera (or the view) out of it")
         if j.light is not None:
             light = np.asarray(j.light, float)
         elif j.light_at is not None and np.linalg.norm(np.asarray(j.light_at, float) - centre) > 0:
             at = np.asarray(j.light_at, float)
-            if self.ev.field(at[None])[0] >= self.ev.iso:
-                raise JobError(f"the light at ({', '.join(f'{x:.3g}' for x in at)}) is inside the model: every "
-                               "point of its surface would be in its own shadow; move the light out of it")
+            if inside(self.ev, at):
+                raise JobError(f"the light at {point_text(at)} is inside the model: every point of its surface "
+                               "would be in its own shadow; move the light out of it")
             light = at - centre
         else:
             light = default_light(centre, self.eye)
@@ -235,9 +234,8 @@ class Illustration:
 
     def _outlines(self):
         self.outline_set = LY.outlines(self.canvas, self.sampling, self.style)
-        if self.sampling.outlines and self.canvas.sight is not None and not any(self.outline_set.layers.values()):
-            self.warnings.append("nothing of the model is seen from the eye: every outline of it is hidden by the "
-                                 "models in front of it")
+        if self.sampling.outlines and any(near for _, near in self.hiders.values()) and not self.outline_set.count():
+            self.warnings.append("nothing of the model is seen: the models in front of it hide all its outlines")
         for name, strokes in self.outline_set.layers.items():
             if name in self.job.owned_layers():
                 self.layers[name] = strokes

@@ -31,6 +31,9 @@ import threading
 import time
 import traceback
 
+from .framing import NothingToDraw
+from .job import JobError
+
 PUBLISH_EVERY = 0.2          # seconds between published results while a stage runs (each costs a
                              # snapshot: tens of ms on the train's thousands of fragments)
 SWITCH_INTERVAL = 2e-4
@@ -211,9 +214,9 @@ class Runner:
     def check(self):
         """Raise the worker's exception, if it had one (its traceback printed first: the
         message alone does not say where it came from); bad input found as the run
-        began (a ValueError: an eye or a light inside the model) is said in its own
-        words."""
+        began (a JobError or NothingToDraw: a light inside the model) is said in its
+        own words."""
         if self._error is not None:
             traceback.print_exception(self._error)
-            said = str(self._error) if isinstance(self._error, ValueError) else repr(self._error)
+            said = str(self._error) if isinstance(self._error, (JobError, NothingToDraw)) else repr(self._error)
             raise RunnerError(f"the illustration failed: {said}") from self._error

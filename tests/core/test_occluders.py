@@ -152,6 +152,6 @@ def test_a_model_wholly_hidden_by_another_is_said():
                  style=ST.style("outlines"), occluders=((big, big_at),))
     res = PL.Illustration(job).run()
     assert not any(res.strokes.layers.values())
-    assert any("nothing of the model is seen" in w for w in res.warnings)
+    assert any("nothing of the model is seen: the models in front of it hide" in w for w in res.warnings)
     alone = PL.Illustration(dataclasses.replace(job, occluders=())).run()
     assert alone.strokes.layers["Silhouette"] and not any("nothing of" in w for w in alone.warnings)

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from blobtree_ink import pipeline as PL
-from blobtree_ink.blackboard.view import View
 from blobtree_ink.pipeline import runner as RN
 from helpers import job_for, same_strokes
 
@@ -205,10 +204,10 @@ def test_the_hook_holds_a_worker_in_the_middle_of_a_layer(load_example, monkeypa
     assert got.stopped and got.owned == ("Hatching",) and ill.position()[0] == "done"
 
 
-def test_an_eye_inside_the_model_reaches_the_caller_in_its_own_words(load_example):
+def test_a_light_inside_the_model_reaches_the_caller_in_its_own_words(load_example):
     job = job_for(load_example, "torus", "outlines")
-    ill = PL.Illustration(dataclasses.replace(job, view=View(eye=np.array([1.0, 0.0, 0.0]))))    # in the ring
+    ill = PL.Illustration(dataclasses.replace(job, light=None, light_at=(1.0, 0.0, 0.0)))       # in the ring
     r = RN.Runner(ill).start()
     r.join()
-    with pytest.raises(RN.RunnerError, match=r"the illustration failed: the eye at \(1, 0, 0\) is inside the model"):
+    with pytest.raises(RN.RunnerError, match=r"the illustration failed: the light at \(1, 0, 0\) is inside the model"):
         r.check()
