@@ -35,8 +35,8 @@ SEED_EVERY = 2          # ... at every this many of its steps
 GENERATIONS = 2         # rounds of seeds beside the lines of a level, at most
 MOST_POINTS = 60_000   # a map of this many points takes no more lines (its finer levels are left sparser)
 SHORTEST_LINE = 6       # points: a map's line cut shorter is not kept (a scrap, not a line)
-TAKE_BLOCK = 64         # a generation's lines are taken this many at a time (a block is tested against the lines
-                        # taken before it and its own, not against every line grown)
+TAKE_BLOCK = 64         # a generation's lines are taken this many at a time, each block tested against the
+                        # kept points of the lines taken before it and against its own lines
 BEND = np.cos(np.radians(45.0))     # a line ends where it would turn more than this in a step (a knot of the field)
 WRAP = np.radians(85.0)     # a line ends where its normal has turned this far from its seed's (round a tube)
 FLOCK_APART = 0.5       # flocks' seeds stand half a spacing times the flock size to this power apart: flocks

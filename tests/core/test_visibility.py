@@ -227,3 +227,29 @@ def test_every_outline_point_beside_a_sharp_wedge_is_on_the_surface():
         assert off.max() <= 1e-6 * ev.scale, (az, el, off.max() / ev.scale)
         ends += sum(not s.cyclic for s in strokes)
     assert ends > 0                                      # (lines that end where they go behind)
+
+
+class _StallingBall:
+    """A unit ball's field, 1 - |p|^2 (iso 0), whose gradient is lost past x = ``stall``:
+    Newton cannot move a point there (as beside a sharp wedge, where it stalls)."""
+    iso = 0.0
+
+    def __init__(self, stall):
+        self.stall = stall
+
+    def field_grad(self, P):
+        P = np.asarray(P, float)
+        return 1.0 - (P * P).sum(axis=1), np.where(P[:, :1] > self.stall, 0.0, -2.0 * P)
+
+
+def test_a_run_end_that_cannot_reach_the_surface_moves_back_along_its_step():
+    """An end's point on the chord of a step that Newton cannot put onto the surface
+    moves back towards the visible point, halving its share, until one reaches it (on
+    the surface); where none does, the run ends at the visible point itself."""
+    A, B = np.array([[0.0, 0.0, 1.0]]), np.array([[np.sin(1.0), 0.0, np.cos(1.0)]])   # on the ball, 1 rad apart
+    X, s = V._onto_chord(_StallingBall(0.55), A, B, [0.9])       # x = 0.76 stalls, x = 0.38 (0.45) does not
+    assert s[0] == 0.45 and abs(np.linalg.norm(X[0]) - 1.0) < 1e-12
+    X, s = V._onto_chord(_StallingBall(0.01), A, B, [0.9])       # every halving stalls: the visible point
+    assert s[0] == 0.0 and np.array_equal(X[0], A[0])
+    X, s = V._onto_chord(_StallingBall(2.0), np.vstack([A, A]), np.vstack([B, B]), [0.9, 0.0])   # a share of 0 stays
+    assert list(s) == [0.9, 0.0] and abs(np.linalg.norm(X[0]) - 1.0) < 1e-12 and np.array_equal(X[1], A[0])
