@@ -148,15 +148,17 @@ def silhouette_segments(mesh, n, view, creases=frozenset()):
     """The silhouette across each dense-mesh quad it crosses, (m, 2, 3): segments between
     the crossings of the quad's sides (process_edges' points), paired in order round the
     quad where all four sides cross; a side that is one of the ``creases`` (edge keys)
-    is not crossed by a smooth silhouette."""
+    is not crossed by a smooth silhouette (a quad left with one or three crossings is
+    not joined across)."""
     V = mesh.vertices
     s = np.einsum("ij,ij->i", n, view.towards_eye(V))
     a, b = mesh.quads, np.roll(mesh.quads, -1, axis=1)
     cut = (s[a] > 0) != (s[b] > 0)
     if creases:
-        on = np.array([k in creases for k in edge_keys(V[a.ravel()], V[b.ravel()])], bool).reshape(a.shape)
-        cut &= ~on
-    hit = cut.sum(axis=1) >= 2
+        q, side = np.nonzero(cut)
+        on = np.array([k in creases for k in edge_keys(V[a[q, side]], V[b[q, side]])], bool)
+        cut[q[on], side[on]] = False
+    hit = np.isin(cut.sum(axis=1), (2, 4))
     a, b, cut = a[hit], b[hit], cut[hit]
     t = s[a] / np.where(cut, s[a] - s[b], 1.0)
     X = V[a] + t[..., None] * (V[b] - V[a])                     # (q, 4, 3) a point on each side

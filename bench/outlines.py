@@ -67,7 +67,7 @@ def curve(gt, make, step_fn, outlines_fn, limit):
         t = time.perf_counter()
         more = step_fn(obj)
         spent += time.perf_counter() - t
-        cov = coverage(gt, raster(CAM[0], [o.points for o in outlines_fn(obj)]))
+        cov = coverage(gt, raster(CAM[0], drawn(outlines_fn(obj))))
         pts.append((spent, cov))
         if cov >= 0.95 or more is False:
             break

@@ -23,6 +23,7 @@ import pure  # noqa: E402
 
 pure.install()
 import numpy as np  # noqa: E402
+from blobtree_ink.cli.render_args import CliError, floats  # noqa: E402
 
 import inkmeasure as IM  # noqa: E402
 import inkview as IV  # noqa: E402
@@ -91,14 +92,6 @@ def row(model, look, figures):
     return f"{model:<15}{look:<19}" + " ".join(cells)
 
 
-def _direction(text):
-    """A unit direction from "x,y,z"."""
-    d = np.array([float(v) for v in text.split(",")])
-    if d.shape != (3,) or not np.isfinite(d).all() or not np.linalg.norm(d) > 0:
-        raise SystemExit(f"--light: three finite numbers, not all zero, as x,y,z (not {text!r})")
-    return d / np.linalg.norm(d)
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--models", default="all")
@@ -106,10 +99,17 @@ def main(argv=None):
     ap.add_argument("--res", type=int, default=256, help="the target's and the tone figures' picture size")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default=None, help="a folder for the pictures")
-    ap.add_argument("--azimuth", type=float, default=35.0, help="the eye's degrees from the front (-y) towards +x")
-    ap.add_argument("--elevation", type=float, default=25.0, help="the eye's degrees up")
+    ap.add_argument("--azimuth", type=float, default=None, help="the eye's degrees from the front (-y) towards +x")
+    ap.add_argument("--elevation", type=float, default=None, help="the eye's degrees up")
     ap.add_argument("--light", default=None, help="x,y,z towards the sun (default: the viewer's upper left)")
     a = ap.parse_args(argv)
+    try:
+        light = None if a.light is None else np.array(floats(a.light, "--light"))
+    except CliError as e:
+        ap.error(str(e))
+    if light is not None and not light.any():
+        ap.error(f"--light: the light direction must not be zero, got {a.light!r}")
+    view = {k: v for k, v in (("azimuth", a.azimuth), ("elevation", a.elevation)) if v is not None}
     models = MODELS if a.models == "all" else tuple(a.models.split(","))
     looks = tuple(k for k in STYLES if k != "outlines") if a.looks == "all" else tuple(a.looks.split(","))
     if a.out:
@@ -119,14 +119,14 @@ def main(argv=None):
     for name in models:
         ev = Evaluator(load(os.path.join(EXAMPLES, f"{name}.json")))
         centre, radius = PL.bounds(ev)
-        eye = PL.three_quarter_eye(centre, radius, a.azimuth, a.elevation)
-        light = PL.default_light(centre, eye) if a.light is None else _direction(a.light)
-        lines = outlines_of(ev, eye, light, a.seed)
+        eye = PL.three_quarter_eye(centre, radius, **view)
+        lit_from = PL.default_light(centre, eye) if light is None else light / np.linalg.norm(light)
+        lines = outlines_of(ev, eye, lit_from, a.seed)
         cam = IV.Camera.framing(eye, centre, np.concatenate([s.points for s in lines]), 1024)
-        lit, _ = IV.cast_light(ev, cam, light, a.res)
+        lit, _ = IV.cast_light(ev, cam, lit_from, a.res)
         for look in looks:
             st = style(look)
-            layers, hatch, seconds = drawing(ev, eye, light, st, lines, a.seed)
+            layers, hatch, seconds = drawing(ev, eye, lit_from, st, lines, a.seed)
             figures, target = measure(ev, cam, lit, eye, st, layers, hatch, a.res, lines)
             figures["seconds"] = seconds
             print(row(name, look, figures), flush=True)
