@@ -117,7 +117,8 @@ class BLOBTREE_INK_OT_illustrate(bpy.types.Operator):
         if ink.use_camera:
             eye = jobs.camera_eye(context.scene)
             off = jobs.off_camera(context.scene, tree)
-            self.notes += [off] if off else []
+            if off and not PL.inside(Evaluator(model), np.array(inverse @ Vector(eye), float)):
+                self.notes.append(off)     # (a camera inside the model: the run's own warning says so, last)
         else:
             centre, radius = framing()
             eye = jobs.viewport_eye(context, np.array(self.placement @ Vector(centre), float),

@@ -286,7 +286,9 @@ def test_the_same_look_twice_draws_the_same_strokes_and_says_so(example, preset)
 
 
 def test_a_camera_inside_the_model_is_said(ext, example):
-    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=False)
+    """The warning is the run's last report (the status bar's), not that the model is
+    partly outside the camera's view, which follows from it."""
+    bpy.ops.blobtree_ink.import_json(filepath=example("sphere"), preview=True)
     tree = bpy.data.node_groups["sphere"]
     tree.ink.grid_resolution = 12
     cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
@@ -296,5 +298,9 @@ def test_a_camera_inside_the_model_is_said(ext, example):
     assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
     from importlib import import_module
     run = import_module(f"{ext.__name__}.operators.illustrate").last_run
-    assert any("the eye at (0.05, 0, 0) is inside the model" in w for w in run["warnings"]), run["warnings"]
+    assert run["warnings"][-1].startswith("the eye at (0.05, 0, 0) is inside the model"), run["warnings"]
+    assert not any("camera's view" in w for w in run["warnings"]), run["warnings"]
     assert not ink("sphere")["Silhouette"]
+    cam.location = (0.0, -4.0, 0.0)                    # outside, looking down past it: the model is out of view
+    assert bpy.ops.blobtree_ink.illustrate(tree_name="sphere", request="OUTLINES") == {"FINISHED"}
+    assert any("outside the scene camera's view" in w for w in run["warnings"]), run["warnings"]
