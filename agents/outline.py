@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stitch import SAME_SHEET, join_ends, stitch
+from .stitch import stitch
 
 
 @dataclass
@@ -37,40 +37,9 @@ def total_length(outlines):
 def stitch_scales(outlines, link=2.5):
     """Fragments stitched into whole polylines with those traced at their own scale
     (within ``link`` of their step): a subdivided voxel's small outlines (a wheel's
-    holes) lie closer together than the session's step. Then the open ones of one kind
-    traced at different scales whose ends face each other are joined across the wider
-    of their links (:func:`across_scales`)."""
+    holes) lie closer together than the session's step."""
     out = []
     for step in sorted({o.step for o in outlines}):
         out += stitch([o for o in outlines if o.step == step], link * step,
                       lambda *a, step=step: Outline(*a, step=step))
-    return across_scales(out, link)
-
-
-def across_scales(outlines, link):
-    """Open outlines of one kind joined where their ends face each other (agents.stitch.
-    join_ends) across up to the wider of their links (``link`` times their step), when
-    traced at different scales: a curve that runs through a subdivided voxel arrives in
-    pieces of both scales (a train window's rim traced round at the fine scale but for
-    one side, which a trace of the session's step found), and each scale's stitching
-    sees only its own. A crease's points carry one of its sheets' normals, which need
-    not agree across the gap (a rounded corner of that rim): creases are joined whatever
-    their normals. A joined outline takes the finer step; one whose ends so meet is
-    closed."""
-    if len({o.step for o in outlines if not o.closed}) < 2:
-        return outlines
-    out = [o for o in outlines if o.closed or len(o.points) < 2]
-    for kind in sorted({o.kind for o in outlines}):
-        mine = [o for o in outlines if o.kind == kind and not o.closed and len(o.points) >= 2]
-        if len({o.step for o in mine}) < 2:
-            out += mine
-            continue
-        P = np.concatenate([o.points for o in mine])
-        N = np.concatenate([o.normals for o in mine])
-        step = np.repeat([o.step for o in mine], [len(o.points) for o in mine])
-        first = np.cumsum([len(o.points) for o in mine]) - [len(o.points) for o in mine]
-        chains = [list(range(f, f + len(o.points))) for f, o in zip(first.tolist(), mine)]
-        for idx, closed in join_ends(P, N, chains, link * step, reach=False,
-                                     same_sheet=-1.0 if kind == "crease" else SAME_SHEET):
-            out.append(Outline(kind, P[idx], N[idx], bool(closed), float(step[idx].min())))
     return out
