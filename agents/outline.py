@@ -4,7 +4,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .stitch import stitch
+from .stitch import SAME_SHEET, join_ends, stitch
 
 
 @dataclass
@@ -34,12 +34,57 @@ def total_length(outlines):
     return float(seg.sum())
 
 
-def stitch_scales(outlines, link=2.5):
+def stitch_scales(outlines, link=2.5, fill=None):
     """Fragments stitched into whole polylines with those traced at their own scale
     (within ``link`` of their step): a subdivided voxel's small outlines (a wheel's
-    holes) lie closer together than the session's step."""
+    holes) lie closer together than the session's step. Then the open ones of one kind
+    traced at different scales whose ends face each other are joined across the wider
+    of their links (:func:`across_scales`), and ``fill`` (given the outlines and their
+    bridges; agents.bridges) puts outline points on those joins."""
     out = []
     for step in sorted({o.step for o in outlines}):
         out += stitch([o for o in outlines if o.step == step], link * step,
                       lambda *a, step=step: Outline(*a, step=step))
-    return out
+    out, bridges = across_scales(out, link)
+    return fill(out, bridges) if fill is not None and any(len(b) for b in bridges) else out
+
+
+def across_scales(outlines, link):
+    """Open outlines of one kind joined where their ends face each other (agents.stitch.
+    join_ends) across up to the wider of their links (``link`` times their step), when
+    traced at different scales: a curve that runs through a subdivided voxel arrives in
+    pieces of both scales (a train window's rim traced round at the fine scale but for
+    one side, which a trace of the session's step found), and each scale's stitching
+    sees only its own. A crease's points carry one of its sheets' normals, which need
+    not agree across the gap (a rounded corner of that rim): creases are joined whatever
+    their normals. A joined outline takes the finer step; one whose ends so meet is
+    closed. Returns the outlines and, for each joined one, the step each of its
+    segments is measured against (segment i runs from point i to the next; a closed
+    outline's last, to its first): a join its outline's, a piece's own segment its
+    piece's (other outlines: none)."""
+    none = np.zeros(0, np.int64)
+    if len({o.step for o in outlines if not o.closed}) < 2:
+        return outlines, [none] * len(outlines)
+    out = [o for o in outlines if o.closed or len(o.points) < 2]
+    bridges = [none] * len(out)
+    for kind in sorted({o.kind for o in outlines}):
+        mine = [o for o in outlines if o.kind == kind and not o.closed and len(o.points) >= 2]
+        if len({o.step for o in mine}) < 2:
+            out += mine
+            bridges += [none] * len(mine)
+            continue
+        sizes = [len(o.points) for o in mine]
+        P = np.concatenate([o.points for o in mine])
+        N = np.concatenate([o.normals for o in mine])
+        step = np.repeat([o.step for o in mine], sizes)
+        member = np.repeat(np.arange(len(mine)), sizes)
+        first = np.cumsum(sizes) - sizes
+        chains = [list(range(f, f + n)) for f, n in zip(first.tolist(), sizes)]
+        for idx, closed in join_ends(P, N, chains, link * step, reach=False, group=step,
+                                     same_sheet=-1.0 if kind == "crease" else SAME_SHEET):
+            m = member[idx]
+            seg = np.r_[m[1:] == m[:-1], m[-1] == m[0]] if closed else m[1:] == m[:-1]
+            fine = float(step[idx].min())
+            out.append(Outline(kind, P[idx], N[idx], bool(closed), fine))
+            bridges.append(np.where(seg, step[idx][:len(seg)], fine) if len(set(m.tolist())) > 1 else none)
+    return out, bridges

@@ -32,6 +32,7 @@ from ..model import Evaluator
 from ..model.curvature import curvature, radial
 from . import detail, manager, sheets
 from .beside import seeds_beside_silhouettes
+from .bridges import filled
 from .changes import EVERYWHERE
 from .continuation import NO_WALKS, Continuation, Init, carried, seed_brackets, thin_walk_seeds
 from .explore import Explorers
@@ -359,7 +360,8 @@ class Session:
         out = [o for o in self.traces.done if id(o) not in mine] + self.ridges.done
         if include_active:
             out += self.traces.active_outlines() + self.ridges.active_outlines()
-        out = whole + stitch_scales(out)
+        out = whole + stitch_scales(out, fill=lambda outs, bridges: filled(self.surface, outs, bridges, self.tol,
+                                                                             self.settings.crease_angle))
         self._stitched = (state, tuple(out))
         return out
 

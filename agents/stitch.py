@@ -44,16 +44,19 @@ def stitch(outlines, link, make):
     return out
 
 
-def join_ends(P, N, chains, link):
+def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None):
     """Chains (index lists into P) whose ends face each other across a gap a little
-    wider than ``link`` (at most REACH times it), nearest pair first, joined into one:
+    wider than ``link`` (at most REACH times it; per point of P, or one for all: two
+    ends take the wider of theirs), nearest pair first, joined into one:
     each end's own direction points across the gap to the other end (within AHEAD), and
-    the normals there agree (within SAME_SHEET); a chain of more than three points
+    the normals there agree (within ``same_sheet``); a chain of more than three points
     whose own ends face each other so closes. Two traces of one curve stop where each
     meets the other, sometimes a few steps short; a gap this narrow between ends that
     point at each other is that curve's, not a junction's. Returns (indices, closed)
     per joined chain (closed: its own two ends within ``link``, or pieces joined round);
-    a free end's reach (:func:`_reach_across`) extends ``chains``' lists in place."""
+    with ``reach``, a free end's reach (:func:`_reach_across`) extends ``chains``' lists
+    in place. Given ``group`` (per point of P), only ends of different groups join."""
+    link = np.broadcast_to(np.asarray(link, float), (len(P),))
     ends = [(c, e) for c, idx in enumerate(chains) for e in (0, 1) if not _closed(P, idx, link)]
     partner = {}
     if len(ends) >= 2:
@@ -63,19 +66,23 @@ def join_ends(P, N, chains, link):
         out_dir /= np.maximum(np.linalg.norm(out_dir, axis=1, keepdims=True), 1e-300)
         owner = np.array([c for c, _ in ends])
         loop = np.array([len(chains[c]) > 3 for c, _ in ends])      # may close on itself
-        i, j = pairs_within(P[tip], P[tip], REACH * link)
+        i, j = pairs_within(P[tip], P[tip], REACH * float(link[tip].max()))
         keep = (i < j) & ((owner[i] != owner[j]) | loop[i])
+        if group is not None:
+            keep &= group[tip[i]] != group[tip[j]]
         i, j = i[keep], j[keep]
         gap = P[tip[j]] - P[tip[i]]
         dist = np.linalg.norm(gap, axis=1)
         g = gap / np.maximum(dist, 1e-300)[:, None]
-        ok = ((np.einsum("ij,ij->i", out_dir[i], g) >= AHEAD) & (np.einsum("ij,ij->i", out_dir[j], -g) >= AHEAD)
-              & (np.einsum("ij,ij->i", N[tip[i]], N[tip[j]]) >= SAME_SHEET))
+        ok = ((dist <= REACH * np.maximum(link[tip[i]], link[tip[j]]))
+              & (np.einsum("ij,ij->i", out_dir[i], g) >= AHEAD) & (np.einsum("ij,ij->i", out_dir[j], -g) >= AHEAD)
+              & (np.einsum("ij,ij->i", N[tip[i]], N[tip[j]]) >= same_sheet))
         for k in np.flatnonzero(ok)[np.argsort(dist[ok], kind="stable")].tolist():
             x, y = ends[i[k]], ends[j[k]]
             if x not in partner and y not in partner:
                 partner[x], partner[y] = y, x
-    _reach_across(P, N, chains, [x for x in ends if x not in partner], link)
+    if reach:
+        _reach_across(P, N, chains, [x for x in ends if x not in partner], link)
     out, seen = [], set()
 
     def walk(c, e):
@@ -103,8 +110,9 @@ def join_ends(P, N, chains, link):
 
 
 def _closed(P, idx, link):
-    """Whether a chain's ends meet (within ``link``; it has more than three points)."""
-    return len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < link
+    """Whether a chain's ends meet (within the wider ``link`` of its ends' points; it has
+    more than three points)."""
+    return len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < max(link[idx[0]], link[idx[-1]])
 
 
 def _reach_across(P, N, chains, free, link):
@@ -121,12 +129,12 @@ def _reach_across(P, N, chains, free, link):
     d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
     every = np.concatenate([np.asarray(idx) for idx in chains])
     owner = np.repeat(np.arange(len(chains)), [len(idx) for idx in chains])
-    i, j = pairs_within(P[tip], P[every], REACH * link)
+    i, j = pairs_within(P[tip], P[every], REACH * float(link[tip].max()))
     mine = np.array([c for c, _ in free])
     i, j = i[owner[j] != mine[i]], j[owner[j] != mine[i]]
     gap = P[every[j]] - P[tip[i]]
     dist = np.linalg.norm(gap, axis=1)
-    ok = ((np.einsum("ij,ij->i", d[i], gap) >= AHEAD * dist)
+    ok = ((dist <= REACH * link[tip[i]]) & (np.einsum("ij,ij->i", d[i], gap) >= AHEAD * dist)
           & (np.einsum("ij,ij->i", N[tip[i]], N[every[j]]) >= SAME_SHEET) & (dist > 0))
     i, j, dist = i[ok], j[ok], dist[ok]
     order = np.lexsort((dist, i))

@@ -87,3 +87,55 @@ def test_a_loop_whose_own_ends_stop_short_closes():
     t = np.linspace(0.0, 2 * np.pi - gap / R, int(round((2 * np.pi * R - gap) / STEP)) + 1)
     out = stitched(piece(np.stack([R * np.cos(t), R * np.sin(t), 0 * t], axis=1)))
     assert len(out) == 1 and out[0].closed and len(out[0].points) == len(t)
+
+
+def rim(R, t0, t1, step):
+    """An arc of a circle of radius R from angle t0 to t1, points about ``step`` apart,
+    with normals tilted 20 degrees off the circle's plane (the rim's sheet)."""
+    t = np.linspace(t0, t1, int(round(abs(t1 - t0) * R / step)) + 1)
+    P = np.stack([R * np.cos(t), R * np.sin(t), 0 * t], axis=1)
+    tilt = np.radians(20.0)
+    N = np.stack([np.sin(tilt) * np.cos(t), np.sin(tilt) * np.sin(t), np.full_like(t, np.cos(tilt))], axis=1)
+    return P, N
+
+
+def test_a_rim_traced_at_two_scales_is_one_closed_outline():
+    """A crease loop traced round at a fine scale but for one arc, which a trace of the
+    coarse step found, each stopped short of the other by most of a coarse step: its
+    scales' stitching leaves two pieces, and their ends, facing each other, join into
+    one closed outline of the finer step, whatever the normals at the joints (a
+    crease's normal is one of its sheets'); silhouettes on other sheets stay apart."""
+    from blobtree_ink.agents.outline import stitch_scales
+    fine, R, gap = STEP / 6, 0.5, 0.7 * STEP
+    P, N = rim(R, gap / R, 1.5 * np.pi, fine)
+    a = Outline("crease", P, N, False, fine)
+    Q, _ = rim(R, 1.5 * np.pi + gap / R, 2 * np.pi, STEP)
+    b = Outline("crease", Q, np.tile([1.0, 0.0, 0.0], (len(Q), 1)), False, STEP)   # the other sheet's normal
+    assert not np.allclose(a.points[0], b.points[-1])
+    out = stitch_scales([a, b])
+    assert len(out) == 1 and out[0].closed and out[0].step == fine
+    assert len(out[0].points) == len(P) + len(Q)
+    d = np.linalg.norm(np.diff(np.vstack([out[0].points, out[0].points[:1]]), axis=0), axis=1)
+    assert d.max() < 1.1 * STEP                          # no chord across the loop
+    # silhouettes whose normals at the joint disagree are two sheets' lines: apart
+    sil = stitch_scales([Outline("silhouette", a.points, a.normals, False, fine),
+                         Outline("silhouette", b.points, b.normals, False, STEP)])
+    assert len(sil) == 2 and not any(o.closed for o in sil)
+
+
+def test_across_scales_only_ends_that_face_each_other_join():
+    """Two creases of different scales meeting at a right angle (a box's corner), one
+    whose end lies beyond the coarse reach, and pieces of one scale, stay as they were."""
+    from blobtree_ink.agents.outline import stitch_scales
+    fine = STEP / 6
+    along = np.stack([np.linspace(0.0, 1.0, 61), np.zeros(61), np.zeros(61)], axis=1)
+    up = np.stack([np.full(11, 1.0 + 0.5 * STEP), np.linspace(0.5 * STEP, 1.0, 11), np.zeros(11)], axis=1)
+    n = np.tile(UP, (61, 1))
+    corner = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", up, n[:11], False, STEP)])
+    assert len(corner) == 2 and sorted(len(o.points) for o in corner) == [11, 61]
+    far = np.stack([np.linspace(1.0 + 1.1 * REACH * LINK, 3.0, 11), np.zeros(11), np.zeros(11)], axis=1)
+    apart = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", far, n[:11], False, STEP)])
+    assert len(apart) == 2
+    near = np.stack([np.linspace(1.0 + 0.5 * STEP, 3.0, 21), np.zeros(21), np.zeros(21)], axis=1)
+    joined = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", near, n[:21], False, STEP)])
+    assert len(joined) == 1 and len(joined[0].points) == 82 and not joined[0].closed
