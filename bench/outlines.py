@@ -21,6 +21,13 @@ the curves to bench/outlines.png.
 apart and elevations cycling through -30, 0, 30 and 60 degrees, at the distance of the
 three-quarter view, and prints per view its coverage, precision, gaps, dangling ends and
 seconds, then each model's worst (bench/README.md says what each means).
+
+--turning N runs N frames of an eye turning --turn degrees a frame about each model
+(from the three-quarter view, at its elevation): each frame once going on from the last
+frame's session (agents.continuation) and once from scratch, both to their end, and
+prints per frame after the first how far they agree (the share of each one's outline
+pixels within 1 pixel of the other's), each one's coverage of the frame's ground truth
+and each one's seconds, then each model's worst.
 """
 import argparse
 import glob
@@ -39,8 +46,8 @@ from blobtree_ink import model as M  # noqa: E402
 from blobtree_ink.agents import Session, Settings  # noqa: E402
 from blobtree_ink.agents.baseline import Baseline  # noqa: E402
 from blobtree_ink.blackboard.view import View  # noqa: E402
-from outlinemeasure import (Camera, coverage, dangling_ends, drawn, gaps, ground_truth, precision,  # noqa: E402
-                            raster, towards, view_truth, views)
+from outlinemeasure import (THREE_QUARTER, Camera, coverage, dangling_ends, drawn, gaps, ground_truth,  # noqa: E402
+                            precision, raster, towards, view_truth, views)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 EXAMPLES = os.path.join(HERE, "..", "examples")
@@ -52,8 +59,8 @@ def grid_for(a, name):
     return a.grid or RES.get(name, Settings.resolution)
 
 
-def massris(model, view, grid, agents):
-    s = Session(model, view, Settings(resolution=grid, agents=agents))
+def massris(model, view, grid, agents, previous=None, remember=False):
+    s = Session(model, view, Settings(resolution=grid, agents=agents), previous=previous, remember=remember)
     s.request("OUTLINES")
     return s
 
@@ -182,6 +189,40 @@ def around(a, names):
         row(name, "", "", *w)
 
 
+TURN_ROW = "{:14} {:>5} {:>8} {:>8} {:>9} {:>9} {:>8} {:>8}"
+
+
+def turning(a, names):
+    """Frames of a turning eye, going on from the last frame against from scratch."""
+    print(TURN_ROW.format("model", "frame", "going in", "scratch", "coverage", "coverage", "seconds", "seconds"))
+    print(TURN_ROW.format("", "", "scratch", "in going", "going", "scratch", "going", "scratch"))
+    d = np.asarray(THREE_QUARTER, float)
+    start, elevation = np.degrees(np.arctan2(d[1], d[0])), np.degrees(np.arctan2(d[2], np.hypot(d[0], d[1])))
+    worst = []
+    for name in names:
+        model = M.load(os.path.join(EXAMPLES, f"{name}.json"))
+        ev = M.Evaluator(model)
+        grid, previous, rows = grid_for(a, name), None, []
+        for k in range(a.turning):
+            cam = Camera(ev, towards(start + k * a.turn, elevation))
+            view = View(eye=cam.eye)
+            going, t_going, _ = to_end(lambda: massris(ev, view, grid, a.agents, previous, True), a.limit)
+            previous = going.continuation()
+            if k == 0:
+                continue
+            scratch, t_scratch, _ = to_end(lambda: massris(model, view, grid, a.agents), a.limit)
+            gt, _, _ = view_truth(ev, view, cam, a.gt_res)
+            A, B = raster(cam, drawn(going.outlines())), raster(cam, drawn(scratch.outlines()))
+            rows.append((precision(B, A), precision(A, B), coverage(gt, A), coverage(gt, B), t_going, t_scratch))
+            print(TURN_ROW.format(name, k, *(f"{x:.3f}" for x in rows[-1][:4]), *(f"{x:.2f}" for x in rows[-1][4:])),
+                  flush=True)
+        c = list(zip(*rows))
+        worst.append((name, min(c[0]), min(c[1]), min(c[2]), min(c[3]), max(c[4]), max(c[5])))
+    print(f"\nworst over frames 1-{a.turning - 1} of each model (the eye turning {a.turn:g} degrees a frame)")
+    for name, *w in worst:
+        print(TURN_ROW.format(name, "", *(f"{x:.3f}" for x in w[:4]), *(f"{x:.2f}" for x in w[4:])))
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--models", default="heart,train,shell", help="comma-separated examples, or all")
@@ -192,12 +233,20 @@ def main():
     ap.add_argument("--no-baseline", action="store_true", help="run MASSRIS only (the baseline takes the limit); no plot is saved")
     ap.add_argument("--views", type=int, default=None,
                     help="run MASSRIS to its end from N (8 or more) views all round each model instead")
+    ap.add_argument("--turning", type=int, default=None,
+                    help="run N (2 or more) frames of a turning eye, going on from the last and from scratch")
+    ap.add_argument("--turn", type=float, default=2.0, help="degrees the eye turns a frame (--turning)")
     a = ap.parse_args()
     if a.views is not None and a.views < 8:
         ap.error("--views needs 8 or more views")
+    if a.turning is not None and (a.turning < 2 or not np.isfinite(a.turn)):
+        ap.error("--turning needs 2 or more frames and --turn a finite number of degrees")
     names = a.models.split(",") if a.models != "all" else sorted(
         os.path.splitext(os.path.basename(p))[0] for p in glob.glob(os.path.join(EXAMPLES, "*.json")))
-    (race if a.views is None else around)(a, names)
+    if a.turning is not None:
+        turning(a, names)
+    else:
+        (race if a.views is None else around)(a, names)
 
 
 if __name__ == "__main__":

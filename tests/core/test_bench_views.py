@@ -90,3 +90,21 @@ def test_an_edge_has_one_key_whichever_way_round():
     b = np.array([[0.0, 1.0, 3.0], [0.0, 5.0, 0.0], [1.0, 1.0, 1.0]])
     assert O.edge_keys(a, b) == O.edge_keys(b, a)
     assert len(set(O.edge_keys(a, b))) == 3
+
+
+def test_the_turning_mode_compares_going_on_frames_with_scratch_ones():
+    """bench/outlines.py --turning: a sphere seen by a turning eye, going on from the
+    last frame and from scratch: the same outline, all of its ground truth; a bad
+    frame count or turn is a usage error."""
+    import subprocess
+    script = os.path.join(os.path.dirname(O.__file__), "outlines.py")
+    run = subprocess.run([sys.executable, script, "--turning", "3", "--turn", "5", "--models", "sphere",
+                          "--gt-res", "64"], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    rows = [line.split() for line in run.stdout.splitlines() if line.startswith("sphere")]
+    assert [r[1] for r in rows[:2]] == ["1", "2"] and len(rows) == 3          # frames 1, 2 and the worst
+    for r in rows:
+        assert [float(x) for x in r[-6:-2]] == [1.0] * 4, r
+    for bad in (["--turning", "1"], ["--turning", "3", "--turn", "nan"]):
+        run = subprocess.run([sys.executable, script, *bad], capture_output=True, text=True, timeout=60)
+        assert run.returncode == 2 and "--turning needs" in run.stderr
