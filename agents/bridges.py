@@ -23,19 +23,22 @@ ACROSS = (0.15, 0.5)  # ... each bracketed this share of the bridge's length to 
 
 
 def filled(surface, outlines, bridges, tol, crease_angle):
-    """The outlines with their segments longer than LONG of their steps ``bridges``
-    (per outline, the step of each segment, a closed one's last running to its first
-    point; empty: none) replaced by outline points FILL of the outline's step apart."""
+    """The outlines with their segments longer than LONG of their steps replaced by
+    outline points FILL of the outline's step apart. ``bridges``: per outline, None or
+    (the step of each segment, which segments must hold the line), a closed one's last
+    segment running to its first point. Such a segment whose points are not all found
+    is not the line's: the outline is cut there (a closed one opens, an open one
+    splits); another segment so left stays a chord."""
     jobs = []               # (outline, segment, interior points, segment length)
     C, W, K = [], [], []
     for k, o in enumerate(outlines):
-        if o.step <= 0 or len(o.points) < 2 or len(bridges[k]) == 0:
+        if bridges[k] is None or o.step <= 0 or len(o.points) < 2:
             continue
         P = np.vstack([o.points, o.points[:1]]) if o.closed else o.points
         N = np.vstack([o.normals, o.normals[:1]]) if o.closed else o.normals
         d = np.diff(P, axis=0)
         length = np.linalg.norm(d, axis=1)
-        for s in np.flatnonzero(length > LONG * np.asarray(bridges[k], float)).tolist():
+        for s in np.flatnonzero(length > LONG * np.asarray(bridges[k][0], float)).tolist():
             m = int(np.ceil(length[s] / (FILL * o.step)))
             t = np.arange(1, m)[:, None] / m
             c = P[s] + t * d[s]
@@ -55,8 +58,7 @@ def filled(surface, outlines, bridges, tol, crease_angle):
                              crease_angle)
         got = todo[seeds.valid]
         X[got], n[got], valid[got], width[got] = seeds.X[seeds.valid], seeds.n[seeds.valid], True, share
-    out = list(outlines)
-    fills = {}
+    fills, cuts = {}, {}
     at = 0
     for k, s, m, length in jobs:
         rows = slice(at, at + m)
@@ -66,16 +68,40 @@ def filled(surface, outlines, bridges, tol, crease_angle):
         along = (X[rows] - P[s]) @ (P[s + 1] - P[s]) / length ** 2
         if valid[rows].all() and np.all(np.diff(np.r_[0.0, along, 1.0]) > 0) and \
                 np.all(np.linalg.norm(X[rows] - C[rows], axis=1) <= width[rows] * length):
-            fills.setdefault(k, []).append((s, X[rows], n[rows]))
-    for k, parts in fills.items():
-        o = out[k]
-        P, N = [], []
-        cut = 0
-        for s, X, n in sorted(parts, key=lambda p: p[0]):
-            P += [o.points[cut:s + 1], X]
-            N += [o.normals[cut:s + 1], n]
-            cut = s + 1
-        P.append(o.points[cut:])
-        N.append(o.normals[cut:])
-        out[k] = Outline(o.kind, np.concatenate(P), np.concatenate(N), o.closed, o.step)
+            fills.setdefault(k, {})[s] = (X[rows], n[rows])
+        elif bridges[k][1][s]:
+            cuts.setdefault(k, set()).add(s)
+    out = []
+    for k, o in enumerate(outlines):
+        if k in fills or k in cuts:
+            out += _rebuilt(o, fills.get(k, {}), cuts.get(k, set()))
+        else:
+            out.append(o)
     return out
+
+
+def _rebuilt(o, fills, cuts):
+    """Outline o with its segments ``fills`` (segment -> points, normals) filled and cut
+    at its segments ``cuts``: the pieces, in order."""
+    n = len(o.points)
+    order = list(range(n))
+    if o.closed and cuts:                      # open it at its first cut: its pieces run on from there
+        start = (min(cuts) + 1) % n
+        order = order[start:] + order[:start]
+    pieces, P, N = [], [], []
+    for at, i in enumerate(order):
+        P.append(o.points[i:i + 1])
+        N.append(o.normals[i:i + 1])
+        last = at == len(order) - 1
+        if last and not o.closed:
+            break
+        if i in cuts:
+            pieces.append((P, N))
+            P, N = [], []
+        elif i in fills and not (last and cuts):
+            P.append(fills[i][0])
+            N.append(fills[i][1])
+    if P:
+        pieces.append((P, N))
+    closed = o.closed and not cuts
+    return [Outline(o.kind, np.concatenate(p), np.concatenate(q), closed, o.step) for p, q in pieces]

@@ -46,45 +46,53 @@ def stitch_scales(outlines, link=2.5, fill=None):
         out += stitch([o for o in outlines if o.step == step], link * step,
                       lambda *a, step=step: Outline(*a, step=step))
     out, bridges = across_scales(out, link)
-    return fill(out, bridges) if fill is not None and any(len(b) for b in bridges) else out
+    return fill(out, bridges) if fill is not None and any(b is not None for b in bridges) else out
 
 
 def across_scales(outlines, link):
     """Open outlines of one kind joined where their ends face each other (agents.stitch.
-    join_ends) across up to the wider of their links (``link`` times their step), when
-    traced at different scales: a curve that runs through a subdivided voxel arrives in
-    pieces of both scales (a train window's rim traced round at the fine scale but for
-    one side, which a trace of the session's step found), and each scale's stitching
-    sees only its own. A crease's points carry one of its sheets' normals, which need
-    not agree across the gap (a rounded corner of that rim): creases are joined whatever
-    their normals. A joined outline takes the finer step; one whose ends so meet is
-    closed. Returns the outlines and, for each joined one, the step each of its
-    segments is measured against (segment i runs from point i to the next; a closed
-    outline's last, to its first): a join its outline's, a piece's own segment its
-    piece's (other outlines: none)."""
-    none = np.zeros(0, np.int64)
+    join_ends) across up to REACH links of the coarsest step of that kind, when one of
+    them at least was traced at a finer scale: a curve that runs through a subdivided
+    voxel arrives in pieces of both scales (a train window's rim traced round at the
+    fine scale but for one side, which a trace of the session's step found), or in
+    fine pieces that stopped short of each other on a coarse line's points, and each
+    scale's stitching sees only its own and its own reach. A crease's points carry one
+    of its sheets' normals, which need not agree across the gap (a rounded corner of
+    that rim): creases are joined whatever their normals. A joined outline takes the
+    finer step; one whose ends so meet is closed. Returns the outlines and, for each
+    joined one, (the step each of its segments is measured against, which joins must
+    hold the line) (segment i runs from point i to the next; a closed outline's last, to
+    its first): a join is measured against its outline's step, a piece's own segment
+    against its piece's (other outlines: None), and which joins are kept only where the
+    line is found along them (agents.bridges): those of two fine pieces, which their
+    own stitching did not reach."""
     if len({o.step for o in outlines if not o.closed}) < 2:
-        return outlines, [none] * len(outlines)
+        return outlines, [None] * len(outlines)
     out = [o for o in outlines if o.closed or len(o.points) < 2]
-    bridges = [none] * len(out)
+    bridges = [None] * len(out)
     for kind in sorted({o.kind for o in outlines}):
         mine = [o for o in outlines if o.kind == kind and not o.closed and len(o.points) >= 2]
-        if len({o.step for o in mine}) < 2:
+        coarse = max([o.step for o in mine], default=0.0)
+        if all(o.step == coarse for o in mine):
             out += mine
-            bridges += [none] * len(mine)
+            bridges += [None] * len(mine)
             continue
         sizes = [len(o.points) for o in mine]
         P = np.concatenate([o.points for o in mine])
         N = np.concatenate([o.normals for o in mine])
         step = np.repeat([o.step for o in mine], sizes)
         member = np.repeat(np.arange(len(mine)), sizes)
+        group = np.where(step == coarse, -1, member)        # the coarse pieces are stitched together already
         first = np.cumsum(sizes) - sizes
         chains = [list(range(f, f + n)) for f, n in zip(first.tolist(), sizes)]
-        for idx, closed in join_ends(P, N, chains, link * step, reach=False, group=step,
+        for idx, closed in join_ends(P, N, chains, link * step, reach=False, group=group, apart=link * coarse,
                                      same_sheet=-1.0 if kind == "crease" else SAME_SHEET):
-            m = member[idx]
-            seg = np.r_[m[1:] == m[:-1], m[-1] == m[0]] if closed else m[1:] == m[:-1]
-            fine = float(step[idx].min())
+            m, st = member[idx], step[idx]
+            nxt = np.r_[np.arange(1, len(idx)), 0][:len(idx) - (not closed)]
+            joins = m[nxt] != m[:len(nxt)]
+            fine = float(st.min())
             out.append(Outline(kind, P[idx], N[idx], bool(closed), fine))
-            bridges.append(np.where(seg, step[idx][:len(seg)], fine) if len(set(m.tolist())) > 1 else none)
+            # (two fine pieces farther apart than their own stitching reaches: kept only where the line is found)
+            farther = joins & (st[:len(nxt)] < coarse) & (st[nxt] < coarse)
+            bridges.append((np.where(joins, fine, st[:len(nxt)]), farther) if joins.any() else None)
     return out, bridges

@@ -44,7 +44,7 @@ def stitch(outlines, link, make):
     return out
 
 
-def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None):
+def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None, apart=None):
     """Chains (index lists into P) whose ends face each other across a gap a little
     wider than ``link`` (at most REACH times it; per point of P, or one for all: two
     ends take the wider of theirs), nearest pair first, joined into one:
@@ -55,8 +55,11 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None)
     point at each other is that curve's, not a junction's. Returns (indices, closed)
     per joined chain (closed: its own two ends within ``link``, or pieces joined round);
     with ``reach``, a free end's reach (:func:`_reach_across`) extends ``chains``' lists
-    in place. Given ``group`` (per point of P), only ends of different groups join."""
+    in place. Given ``group`` (per point of P), only ends of different groups join;
+    given ``apart`` (a link per point of P), two ends join across REACH of the wider of
+    theirs instead (a chain still closes on itself within ``link``)."""
     link = np.broadcast_to(np.asarray(link, float), (len(P),))
+    apart = link if apart is None else np.broadcast_to(np.asarray(apart, float), (len(P),))
     ends = [(c, e) for c, idx in enumerate(chains) for e in (0, 1) if not _closed(P, idx, link)]
     partner = {}
     if len(ends) >= 2:
@@ -66,7 +69,7 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None)
         out_dir /= np.maximum(np.linalg.norm(out_dir, axis=1, keepdims=True), 1e-300)
         owner = np.array([c for c, _ in ends])
         loop = np.array([len(chains[c]) > 3 for c, _ in ends])      # may close on itself
-        i, j = pairs_within(P[tip], P[tip], REACH * float(link[tip].max()))
+        i, j = pairs_within(P[tip], P[tip], REACH * float(apart[tip].max()))
         keep = (i < j) & ((owner[i] != owner[j]) | loop[i])
         if group is not None:
             keep &= group[tip[i]] != group[tip[j]]
@@ -74,7 +77,7 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None)
         gap = P[tip[j]] - P[tip[i]]
         dist = np.linalg.norm(gap, axis=1)
         g = gap / np.maximum(dist, 1e-300)[:, None]
-        ok = ((dist <= REACH * np.maximum(link[tip[i]], link[tip[j]]))
+        ok = ((dist <= REACH * np.maximum(apart[tip[i]], apart[tip[j]]))
               & (np.einsum("ij,ij->i", out_dir[i], g) >= AHEAD) & (np.einsum("ij,ij->i", out_dir[j], -g) >= AHEAD)
               & (np.einsum("ij,ij->i", N[tip[i]], N[tip[j]]) >= same_sheet))
         for k in np.flatnonzero(ok)[np.argsort(dist[ok], kind="stable")].tolist():

@@ -1,7 +1,7 @@
 """Joined outlines' bridges filled with outline points (agents.bridges): a silhouette
 traced at two scales, joined round, has exact silhouette points at the finer step
 round the joins and across the gaps its pieces were stitched over, where those were
-chords; a bridge that holds no such line stays as it was."""
+chords; a join of two fine pieces that holds no such line is cut again."""
 import numpy as np
 
 from blobtree_ink import model as M
@@ -33,13 +33,15 @@ def setting():
 
 
 def pieces(kind="silhouette"):
-    """The silhouette round but for a quarter at the fine step, the quarter at the coarse
-    one, each stopped most of a coarse step short of the other; the coarse piece was
-    stitched across a gap of three of its steps in its middle."""
+    """The silhouette round in three pieces: two at the fine step, 8 fine steps apart
+    (farther than their own stitching reaches), and a quarter at the coarse step, each
+    stopped most of a coarse step short of the fine ones; the coarse piece was stitched
+    across a gap of three of its steps in its middle."""
     gap = 0.7 * COARSE / RHO
     P, N = arc(1.5 * np.pi + gap, 2 * np.pi - gap, COARSE)
     keep = np.r_[0:10, 12:len(P)]
-    return [Outline(kind, *arc(gap, 1.5 * np.pi, FINE), False, FINE),
+    return [Outline(kind, *arc(gap, np.pi, FINE), False, FINE),
+            Outline(kind, *arc(np.pi + 8 * FINE / RHO, 1.5 * np.pi, FINE), False, FINE),
             Outline(kind, P[keep], N[keep], False, COARSE)]
 
 
@@ -53,7 +55,7 @@ def test_a_silhouette_joined_across_scales_is_filled_round_at_the_finer_step():
     assert len(out) == 1 and out[0].closed and out[0].step == FINE
     P = out[0].points
     spacing = np.linalg.norm(np.diff(np.vstack([P, P[:1]]), axis=0), axis=1)
-    coarse = {tuple(p) for p in pieces()[1].points}
+    coarse = {tuple(p) for p in pieces()[2].points}
     own = np.array([tuple(a) in coarse and tuple(b) in coarse for a, b in zip(P, np.roll(P, -1, axis=0))])
     assert spacing[~own].max() <= LONG * FINE             # the joins and the coarse piece's gap: filled
     assert spacing[own].max() <= LONG * COARSE and own.sum() > 5    # its own steps: kept
@@ -68,10 +70,18 @@ def test_a_silhouette_joined_across_scales_is_filled_round_at_the_finer_step():
     assert np.all(np.diff(turn) > 0)                        # in order round the circle
 
 
-def test_a_bridge_over_no_such_line_stays_a_chord():
-    """The same pieces called creases (a sphere has none): the joined outline keeps its
-    chords, point for point."""
+def test_a_join_of_fine_pieces_over_no_such_line_is_cut_again():
+    """The same pieces called creases (a sphere has none): stitched alone they are joined
+    round by chords; filled, the join of the two fine pieces finds no crease and is cut
+    again (their own stitching did not reach across it), while the joins to the coarse
+    piece, and its own gap, stay chords: one open outline of all the points, ending at
+    the fine pieces' facing ends."""
     _, surface, tol, crease_angle = setting()
     plain = stitch_scales(pieces("crease"))
+    assert len(plain) == 1 and plain[0].closed
     out = stitch_scales(pieces("crease"), fill=lambda o, b: filled(surface, o, b, tol, crease_angle))
-    assert len(out) == len(plain) == 1 and np.array_equal(out[0].points, plain[0].points)
+    assert len(out) == 1 and not out[0].closed
+    assert {tuple(p) for p in out[0].points} == {tuple(p) for p in plain[0].points}
+    a, b = pieces("crease")[:2]
+    ends = {tuple(out[0].points[0]), tuple(out[0].points[-1])}
+    assert ends == {tuple(a.points[-1]), tuple(b.points[0])}
