@@ -38,9 +38,9 @@ def stitch_scales(outlines, link=2.5, fill=None):
     """Fragments stitched into whole polylines with those traced at their own scale
     (within ``link`` of their step): a subdivided voxel's small outlines (a wheel's
     holes) lie closer together than the session's step. Then the open ones of one kind
-    traced at different scales whose ends face each other are joined across the wider
-    of their links (:func:`across_scales`), and ``fill`` (given the outlines and their
-    bridges; agents.bridges) puts outline points on those joins."""
+    whose ends face each other are joined across scales, and fine pieces farther apart
+    than their own stitching reaches (:func:`across_scales`), and ``fill`` (given the
+    outlines and their bridges; agents.bridges) puts outline points on those joins."""
     out = []
     for step in sorted({o.step for o in outlines}):
         out += stitch([o for o in outlines if o.step == step], link * step,
