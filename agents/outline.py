@@ -6,6 +6,9 @@ import numpy as np
 
 from .stitch import SAME_SHEET, join_ends, stitch
 
+MEET = 1.0          # a free end reaches into another piece up to this many of the coarse step ...
+MEET_AHEAD = 0.5    # ... within 60 degrees of its direction
+
 
 @dataclass
 class Outline:
@@ -56,7 +59,11 @@ def across_scales(outlines, link):
     voxel arrives in pieces of both scales (a train window's rim traced round at the
     fine scale but for one side, which a trace of the session's step found), or in
     fine pieces that stopped short of each other on a coarse line's points, and each
-    scale's stitching sees only its own and its own reach. A crease's points carry one
+    scale's stitching sees only its own and its own reach. An end left free reaches the
+    nearest point ahead of it of a piece of another scale within MEET of the coarse
+    step (:func:`agents.stitch.join_ends`): a fine trace stops short where it meets a
+    coarse one's point (a window's rim meeting the frame's crease), that much away. A
+    crease's points carry one
     of its sheets' normals, which need not agree across the gap (a rounded corner of
     that rim): creases are joined whatever their normals. A joined outline takes the
     finer step; one whose ends so meet is closed. Returns the outlines and, for each
@@ -66,28 +73,31 @@ def across_scales(outlines, link):
     against its piece's (other outlines: None), and which joins are kept only where the
     line is found along them (agents.bridges): those of two fine pieces, which their
     own stitching did not reach."""
-    if len({o.step for o in outlines if not o.closed}) < 2:
+    if len({o.step for o in outlines}) < 2:
         return outlines, [None] * len(outlines)
     out = [o for o in outlines if o.closed or len(o.points) < 2]
     bridges = [None] * len(out)
     for kind in sorted({o.kind for o in outlines}):
         mine = [o for o in outlines if o.kind == kind and not o.closed and len(o.points) >= 2]
-        coarse = max([o.step for o in mine], default=0.0)
-        if all(o.step == coarse for o in mine):
+        rings = [o for o in outlines if o.kind == kind and o.closed and len(o.points) > 3]   # reached, not joined
+        coarse = max([o.step for o in mine + rings], default=0.0)
+        if all(o.step == coarse for o in mine + rings):
             out += mine
             bridges += [None] * len(mine)
             continue
-        sizes = [len(o.points) for o in mine]
-        P = np.concatenate([o.points for o in mine])
-        N = np.concatenate([o.normals for o in mine])
-        step = np.repeat([o.step for o in mine], sizes)
-        member = np.repeat(np.arange(len(mine)), sizes)
+        sizes = [len(o.points) for o in mine + rings]
+        P = np.concatenate([o.points for o in mine + rings])
+        N = np.concatenate([o.normals for o in mine + rings])
+        step = np.repeat([o.step for o in mine + rings], sizes)
+        member = np.repeat(np.arange(len(mine) + len(rings)), sizes)
         group = np.where(step == coarse, -1, member)        # the coarse pieces are stitched together already
         first = np.cumsum(sizes) - sizes
         chains = [list(range(f, f + n)) for f, n in zip(first.tolist(), sizes)]
-        for idx, closed in join_ends(P, N, chains, link * step, reach=False, group=group, apart=link * coarse,
-                                     same_sheet=-1.0 if kind == "crease" else SAME_SHEET):
+        for idx, closed in join_ends(P, N, chains, link * step, reach=MEET * coarse, ahead=MEET_AHEAD, group=group,
+                                     apart=link * coarse, same_sheet=-1.0 if kind == "crease" else SAME_SHEET):
             m, st = member[idx], step[idx]
+            if m[0] >= len(mine) and (m == m[0]).all():
+                continue                                    # a closed outline, as it was
             nxt = np.r_[np.arange(1, len(idx)), 0][:len(idx) - (not closed)]
             joins = m[nxt] != m[:len(nxt)]
             fine = float(st.min())

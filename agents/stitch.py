@@ -17,6 +17,8 @@ from ..blackboard.keys import unique_rows
 REACH = 1.6         # ends pointing at each other are joined across up to this many links
 AHEAD = 0.8         # ... each end's direction within about 37 degrees of the gap's
 SAME_SHEET = 0.95   # ... and their normals within about 18 degrees
+HEADING = 0.5       # an end reaches into another line heading across it (30 degrees at least) ...
+LATERAL = 0.25      # ... or lying on its run (within about 14 degrees of its tangent there)
 
 
 def stitch(outlines, link, make):
@@ -44,7 +46,7 @@ def stitch(outlines, link, make):
     return out
 
 
-def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None, apart=None):
+def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None, apart=None, ahead=AHEAD):
     """Chains (index lists into P) whose ends face each other across a gap a little
     wider than ``link`` (at most REACH times it; per point of P, or one for all: two
     ends take the wider of theirs), nearest pair first, joined into one:
@@ -54,10 +56,12 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None,
     meets the other, sometimes a few steps short; a gap this narrow between ends that
     point at each other is that curve's, not a junction's. Returns (indices, closed)
     per joined chain (closed: its own two ends within ``link``, or pieces joined round);
-    with ``reach``, a free end's reach (:func:`_reach_across`) extends ``chains``' lists
-    in place. Given ``group`` (per point of P), only ends of different groups join;
-    given ``apart`` (a link per point of P), two ends join across REACH of the wider of
-    theirs instead (a chain still closes on itself within ``link``)."""
+    with ``reach``, a free end's reach (:func:`_reach_across`: True, REACH of its link;
+    or a distance per point of P; ``ahead`` of its direction) extends ``chains``' lists
+    in place. Given ``group``
+    (per point of P), only ends of different groups join; given ``apart`` (a link per point of P), two ends join
+    across REACH of the wider of theirs instead (a chain still closes on itself within
+    ``link``)."""
     link = np.broadcast_to(np.asarray(link, float), (len(P),))
     apart = link if apart is None else np.broadcast_to(np.asarray(apart, float), (len(P),))
     ends = [(c, e) for c, idx in enumerate(chains) for e in (0, 1) if not _closed(P, idx, link)]
@@ -84,8 +88,10 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None,
             x, y = ends[i[k]], ends[j[k]]
             if x not in partner and y not in partner:
                 partner[x], partner[y] = y, x
-    if reach:
-        _reach_across(P, N, chains, [x for x in ends if x not in partner], link)
+    reached = set()
+    if reach is not False:
+        within = REACH * link if reach is True else np.broadcast_to(np.asarray(reach, float), (len(P),))
+        reached = _reach_across(P, N, chains, [x for x in ends if x not in partner], within, same_sheet, ahead)
     out, seen = [], set()
 
     def walk(c, e):
@@ -99,16 +105,17 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None,
                 break
             c, e = nxt
             closed = c in seen
-        return idx, closed
+        return idx, closed, (c, 1 - e)
 
     for c in range(len(chains)):                    # pieces with a free end first, from that end
         for e in (0, 1):
             if c not in seen and (c, e) not in partner:
-                idx, _ = walk(c, e)
-                out.append((idx, _closed(P, idx, link)))
+                idx, _, last = walk(c, e)
+                # (an end run on to another line ends there: not closed on itself)
+                out.append((idx, _closed(P, idx, link) and (c, e) not in reached and last not in reached))
     for c in range(len(chains)):                    # what is left: pieces joined round
         if c not in seen:
-            out.append(walk(c, 0))
+            out.append(walk(c, 0)[:2])
     return out
 
 
@@ -118,37 +125,60 @@ def _closed(P, idx, link):
     return len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < max(link[idx[0]], link[idx[-1]])
 
 
-def _reach_across(P, N, chains, free, link):
+def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD):
     """Free ends (chain, 0 start / 1 end) reach the nearest point of another chain that
-    lies ahead of them (within REACH links and AHEAD of their direction) on the same
-    sheet (SAME_SHEET): it becomes their chain's last point.
+    lies ahead of them (within ``within`` of the end, per point of P, and ``ahead`` of
+    its direction) on the same sheet (``same_sheet``): it becomes their chain's last point.
     A trace stops short where it meets another outline, and where it met that one's
     middle (a cusp, a junction) no free point was left there for the chaining to take."""
     if not free or len(chains) < 2:
-        return
+        return set()
     tip = np.array([chains[c][0] if e == 0 else chains[c][-1] for c, e in free])
     back = np.array([chains[c][1] if e == 0 else chains[c][-2] for c, e in free])
     d = P[tip] - P[back]
     d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
     every = np.concatenate([np.asarray(idx) for idx in chains])
     owner = np.repeat(np.arange(len(chains)), [len(idx) for idx in chains])
-    i, j = pairs_within(P[tip], P[every], REACH * float(link[tip].max()))
+    T = np.concatenate([_tangents(P[idx]) for idx in chains])
+    i, j = pairs_within(P[tip], P[every], float(within[tip].max()))
     mine = np.array([c for c, _ in free])
     i, j = i[owner[j] != mine[i]], j[owner[j] != mine[i]]
     gap = P[every[j]] - P[tip[i]]
     dist = np.linalg.norm(gap, axis=1)
-    ok = ((dist <= REACH * link[tip[i]]) & (np.einsum("ij,ij->i", d[i], gap) >= AHEAD * dist)
-          & (np.einsum("ij,ij->i", N[tip[i]], N[every[j]]) >= SAME_SHEET) & (dist > 0))
+    ok = ((dist <= within[tip[i]]) & (np.einsum("ij,ij->i", d[i], gap) >= ahead * dist)
+          & (np.einsum("ij,ij->i", N[tip[i]], N[every[j]]) >= same_sheet) & (dist > 0))
+    # (not a line running alongside: the end heads across the other line, or lies on its run)
+    lat = gap - np.einsum("ij,ij->i", gap, T[j])[:, None] * T[j]
+    off = np.linalg.norm(lat, axis=1)
+    ok &= (np.einsum("ij,ij->i", d[i], lat) >= HEADING * off) | (off <= LATERAL * dist)
     i, j, dist = i[ok], j[ok], dist[ok]
     order = np.lexsort((dist, i))
     first = np.ones(len(order), bool)
     first[1:] = i[order][1:] != i[order][:-1]
-    for k, q in zip(i[order][first].tolist(), every[j[order][first]].tolist()):
+    target = dict(zip(i[order][first].tolist(), every[j[order][first]].tolist()))
+    tip_of = {t: k for k, t in enumerate(tip.tolist())}
+    reached = set()
+    for k, q in target.items():
         c, e = free[k]
+        other = tip_of.get(q)
+        if other is not None and other < k and target.get(other) in chains[c]:
+            continue                                # two ends that reach each other: one join
         if e == 0:
             chains[c].insert(0, q)
         else:
             chains[c].append(q)
+        reached.add((c, e))
+    return reached
+
+
+def _tangents(Q):
+    """Unit tangents of a polyline's points (its neighbours' chord; an end's, its segment)."""
+    if len(Q) < 2:
+        return np.zeros_like(Q)
+    T = np.empty_like(Q)
+    T[1:-1] = Q[2:] - Q[:-2]
+    T[0], T[-1] = Q[1] - Q[0], Q[-1] - Q[-2]
+    return T / np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
 
 
 def _merge_close(P, N, r):

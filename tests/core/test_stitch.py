@@ -82,6 +82,54 @@ def test_a_free_end_reaches_the_middle_of_an_outline_it_points_at():
     assert sorted(len(o.points) for o in stitched(main, piece(beyond))) == [8, 21]
 
 
+def test_a_free_end_beside_a_line_it_runs_along_does_not_hook_onto_it():
+    """An end running alongside another line, half a link off it, reaches nothing (it
+    does not head across that line, nor lie on its run, though the line's points ahead
+    lie within AHEAD); turned towards the line, it reaches it."""
+    main = piece(line(0.0, 2.0))
+    beside = line(0.2, 1.0, y=0.5 * LINK)
+    gap = main.points[13] - beside[-1]                          # a point of the line ahead, within reach
+    assert np.linalg.norm(gap) < REACH * LINK and gap[0] / np.linalg.norm(gap) >= AHEAD
+    assert sorted(len(o.points) for o in stitched(main, piece(beside))) == [9, 21]
+    turned = np.vstack([beside, beside[-1] + [0.1, -0.06, 0.0]])   # its last step heads down
+    assert sorted(len(o.points) for o in stitched(main, piece(turned))) == [11, 21]
+
+
+def chained(*polylines, **kw):
+    """join_ends on the polylines as chains (no pooling): (points, closed) per result."""
+    from blobtree_ink.agents.stitch import join_ends
+    P = np.concatenate(polylines)
+    first = np.cumsum([0] + [len(q) for q in polylines])
+    chains = [list(range(a, b)) for a, b in zip(first[:-1].tolist(), first[1:].tolist())]
+    return [(P[idx], closed) for idx, closed in join_ends(P, np.tile(UP, (len(P), 1)), chains, LINK, **kw)]
+
+
+def test_two_ends_that_reach_each_other_join_once():
+    """Two lines meeting at a corner whose ends each reach the other's end (within 60
+    degrees of their directions, not facing each other within AHEAD): one runs on to
+    the other's end, not both (no doubled corner)."""
+    a = line(0.0, 1.0)
+    b = np.stack([np.full(8, 1.3), np.linspace(0.95, 0.25, 8), np.zeros(8)], axis=1)    # heads down
+    out = chained(a, b, reach=0.45, ahead=0.5)
+    assert sorted(len(q) for q, _ in out) in ([8, 12], [9, 11])
+    assert sorted(len(q) for q, _ in chained(a, b)) == [8, 11]          # not within AHEAD: apart
+
+
+def test_an_end_run_on_to_another_line_does_not_close_its_outline():
+    """A U whose two ends, farther apart than a link, turn in and both run on to a line
+    below, on points closer than a link: one open outline ending on that line at both
+    ends, not a closed loop."""
+    main = line(-1.0, 1.0)
+    up = np.linspace(0.25, 1.0, 9)
+    u = np.concatenate([[[0.15, 0.2, 0.0]], np.stack([np.full(9, 0.2), up, 0 * up], axis=1),
+                        np.stack([np.full(9, -0.2), up[::-1], 0 * up], axis=1), [[-0.15, 0.2, 0.0]]])
+    assert np.linalg.norm(u[0] - u[-1]) > LINK
+    out = chained(main, u)
+    ran = [(q, closed) for q, closed in out if len(q) == len(u) + 2]
+    assert len(ran) == 1 and not ran[0][1] and np.allclose(ran[0][0][[0, -1], 1], 0.0)
+    assert np.linalg.norm(ran[0][0][0] - ran[0][0][-1]) < LINK
+
+
 def test_a_loop_whose_own_ends_stop_short_closes():
     R, gap = 2.0, 3.5 * STEP
     t = np.linspace(0.0, 2 * np.pi - gap / R, int(round((2 * np.pi * R - gap) / STEP)) + 1)
@@ -124,15 +172,32 @@ def test_a_rim_traced_at_two_scales_is_one_closed_outline():
 
 
 def test_across_scales_only_ends_that_face_each_other_join():
-    """Two creases of different scales meeting at a right angle (a box's corner), one
-    whose end lies beyond the coarse reach, and pieces of one scale, stay as they were."""
-    from blobtree_ink.agents.outline import stitch_scales
+    """Two creases of different scales meeting at a right angle (a box's corner) stay
+    two outlines, the fine one running on to the coarse one's nearest point ahead (its
+    trace stopped short of it: within MEET of the coarse step); one whose end lies
+    beyond the coarse reach, and pieces of one scale, stay as they were."""
+    from blobtree_ink.agents.outline import MEET, stitch_scales
     fine = STEP / 6
     along = np.stack([np.linspace(0.0, 1.0, 61), np.zeros(61), np.zeros(61)], axis=1)
     up = np.stack([np.full(11, 1.0 + 0.5 * STEP), np.linspace(0.5 * STEP, 1.0, 11), np.zeros(11)], axis=1)
     n = np.tile(UP, (61, 1))
     corner = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", up, n[:11], False, STEP)])
-    assert len(corner) == 2 and sorted(len(o.points) for o in corner) == [11, 61]
+    assert len(corner) == 2 and sorted(len(o.points) for o in corner) == [11, 62]
+    ran = next(o for o in corner if len(o.points) == 62)
+    assert np.allclose(ran.points[:61], along) and np.allclose(ran.points[-1], up[0])
+    assert np.linalg.norm(up[0] - along[-1]) < MEET * STEP
+    beyond = up + [0.0, (MEET + 0.1) * STEP, 0.0]       # out of reach: as it was
+    out = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", beyond, n[:11], False, STEP)])
+    assert sorted(len(o.points) for o in out) == [11, 61]
+    # a coarse piece running alongside the fine one half a step off: as they were
+    beside = np.stack([np.linspace(0.2, 0.8, 7), np.full(7, 0.5 * STEP), np.zeros(7)], axis=1)
+    out = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", beside, n[:7], False, STEP)])
+    assert sorted(len(o.points) for o in out) == [7, 61]
+    # ... and one that ends on the fine piece's middle (a T-junction) runs on to it
+    tee = np.stack([np.full(7, 0.5), np.linspace(0.7, 0.5 * STEP, 7), np.zeros(7)], axis=1)
+    out = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", tee, n[:7], False, STEP)])
+    assert sorted(len(o.points) for o in out) == [8, 61]
+    assert any(np.allclose(o.points[-1], [0.5, 0.0, 0.0]) for o in out if len(o.points) == 8)
     far = np.stack([np.linspace(1.0 + 1.1 * REACH * LINK, 3.0, 11), np.zeros(11), np.zeros(11)], axis=1)
     apart = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", far, n[:11], False, STEP)])
     assert len(apart) == 2
