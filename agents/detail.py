@@ -187,6 +187,31 @@ def subdivide(bb, surface, settings, P, C):
     ijk = unique_rows(cand[inside])
     if len(ijk) > MAX_SUBDIVIDED:       # a spread subset: the fine sampling's cost stays bounded
         ijk = ijk[np.linspace(0, len(ijk) - 1, MAX_SUBDIVIDED).astype(int)]
+    return _resample(bb, surface, settings, ijk)
+
+
+def subdivide_at(bb, surface, settings, P):
+    """Voxel subdivision where traces were lost (at points P), once the run has nothing
+    else to do: a trace is lost where the outline does what its step cannot follow (a
+    shell's apex, whose whorls and sutures are thinner than a voxel; a wheel seen edge
+    on), and the rough grid may have found no feature point of what goes on there. The
+    voxels of P not subdivided yet are resampled on fine cells; the feature points found
+    join the blackboard at the fine cells' scale (those on outlines traced already are
+    dropped when started). Returns how many were added."""
+    if len(P) == 0:
+        return 0
+    return _resample(bb, surface, settings, bb.voxel_of(P))
+
+
+def _resample(bb, surface, settings, ijk):
+    """Voxels ``ijk`` not subdivided yet resampled on fine cells (blackboard.subdivide;
+    each voxel once): their feature points join the blackboard with the fine cells'
+    size. Returns how many were added."""
+    k = settings.subdivide
+    kinds = [kind for kind in ("silhouette", "crease") if kind in settings.kinds]
+    if not k or not kinds or len(ijk) == 0:
+        return 0
+    ijk = bb.unsubdivided(ijk)
     added = 0
     for kind, (pos, a, b) in fine_features(surface.ev, bb.lo, bb.h, ijk, k, surface.view, settings.crease_angle,
                                            kinds).items():

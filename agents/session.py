@@ -284,10 +284,14 @@ class Session:
             self.ridges.waiting(self._in_regions) + len(self.ridges)
 
     @property
+    def _detail_due(self):
+        """Whether the detail phase (explorers, seeds beside silhouettes) is still to come."""
+        return self.settings.explore_detail and self._detail is None and bool(self.requests)
+
+    @property
     def done(self):
-        # the detail phase (explorers, seeds beside silhouettes) may still add tasks
-        detail_due = self.settings.explore_detail and self._detail is None and bool(self.requests)
-        return self.tasks_left == 0 and not detail_due
+        # the detail phase may still add tasks, and so may the voxels where traces were lost
+        return self.tasks_left == 0 and not self._detail_due and not self.traces.lost
 
     def _open_seeds(self):
         ids = self.bb.open_features()
@@ -304,6 +308,9 @@ class Session:
             return False
         if self._walks is not None and self._detail is None and self.settings.explore_detail and self.requests:
             self._queue_detail()      # going on with the same model: a small detail phase, started at once
+        if self.tasks_left == 0 and not self._detail_due and self.traces.lost:
+            # nothing else to do: subdivide where traces were lost (each voxel once)
+            detail.subdivide_at(self.bb, self.surface, self.settings, self.traces.take_lost())
         self._assign()
         touched = self.traces.step() + self.explorers.step()
         self.ridges.step()

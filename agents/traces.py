@@ -24,8 +24,7 @@ from .outline import Outline
 from .tracer import Step, refine_seeds, trace_step
 from .traced import NO_ARC, SELF_GAP, TracedPoints, consume_crossed
 
-SEED_PAUSE = 3          # bisection iterations a seed's refinement takes per system iteration (4: the train
-                        # reached 95 % in the same iteration, at 2-6 % more time)
+SEED_PAUSE = 3          # bisection iterations a seed's refinement takes per system iteration
 SEED_ROUNDS = 6         # ... in at most this many system iterations
 NARROWED = 0.9          # ... each narrowing its bracket below this fraction of its width
 SHORTEST = 1.0 / 16     # a failed step is retried halved down to this fraction of the full step
@@ -69,9 +68,15 @@ class Traces:
         self.serial = 0                       # the next task's serial
         self.done = []                        # the outlines of the tasks that ended
         self.traced = TracedPoints(step_len, settings.crease_angle, board.lo)
+        self.lost = []                        # where traces were lost (arrays of points), not taken yet
 
     def __len__(self):
         return len(self.table)
+
+    def take_lost(self):
+        """The points where traces were lost (and a step ahead) since the last call."""
+        P, self.lost = np.concatenate(self.lost or [np.zeros((0, 3))]), []
+        return P
 
     # --- starting ---------------------------------------------------------------------
     def add_traced(self, outlines):
@@ -280,6 +285,8 @@ class Traces:
             elif lone_[i] and loop.hit(sw[i]) is None:
                 fate[i] = TURN             # trace the other way from the seed
         loop.commit()
+        lost = np.flatnonzero(~ok & ~retry)     # where, and a step ahead (agents.detail.subdivide_at)
+        self.lost += [np.concatenate([tk.p[lost], tk.p[lost] + tk.t[lost] * base[lost, None]])] if len(lost) else []
         kept = np.flatnonzero(fate == KEEP)
         tk.reach[kept] = np.maximum(tk.reach[kept], apart[kept])
         self._keep_points(kept, X, n, Tn, refn, st)

@@ -10,6 +10,7 @@ of growable arrays, so statistics are vector operations (bincount) too.
 import numpy as np
 
 from .cells import _NEIGHBOURS, pack, pack_around, pairs_within, unpack
+from .keys import unique_rows
 
 from .polygonise import Mesh
 
@@ -117,7 +118,7 @@ class Blackboard:
         self.vox = Grow(ijk=((3,), np.int64, 0), corners_in=((), np.int8, 0), theta=((), float, 0.0),
                         surface=((), bool, False), features=((), np.int64, 0), samples=((), np.int64, 0),
                         sum=((), float, 0.0), sumsq=((), float, 0.0), fmin=((), float, np.inf),
-                        fmax=((), float, -np.inf), path_steps=((), np.int64, 0),
+                        fmax=((), float, -np.inf), path_steps=((), np.int64, 0), subdivided=((), bool, False),
                         nbr=((len(_NEIGHBOURS),), np.int32, -1))
         self.smp = Grow(pos=((3,), float, 0.0), f=((), float, 0.0), grad=((3,), float, 0.0),
                         mean=((), float, np.nan), gauss=((), float, np.nan), dir1=((3,), float, 0.0),
@@ -153,6 +154,15 @@ class Blackboard:
             self._corner_info(added)
             self._link(added)
         return rows
+
+    def unsubdivided(self, ijk):
+        """Of voxels ``ijk``, those not subdivided yet (each once), now marked
+        subdivided (blackboard.subdivide resamples them)."""
+        ijk = unique_rows(np.atleast_2d(np.asarray(ijk, np.int64)))
+        rows = self.voxel_rows(ijk)
+        new = ~self.vox.cols["subdivided"][rows]
+        self.vox.cols["subdivided"][rows[new]] = True
+        return ijk[new]
 
     def _corner_info(self, rows):
         """Corner counts and the max angle between corner gradients (from the grid)."""
