@@ -190,15 +190,17 @@ def subdivide(bb, surface, settings, P, C):
     return _resample(bb, surface, settings, ijk)
 
 
-def subdivide_at(bb, surface, settings, P):
+def subdivide_at(bb, surface, settings, P, going_on=False):
     """Voxel subdivision where traces were lost (at points P), once the run has nothing
     else to do: a trace is lost where the outline does what its step cannot follow (a
     shell's apex, whose whorls and sutures are thinner than a voxel; a wheel seen edge
     on), and the rough grid may have found no feature point of what goes on there. The
     voxels of P not subdivided yet are resampled on fine cells; the feature points found
     join the blackboard at the fine cells' scale (those on outlines traced already are
-    dropped when started). Returns how many were added."""
-    if len(P) == 0:
+    dropped when started). A frame ``going_on`` with the same model subdivides nothing:
+    it follows the outlines the frames before it found, these included. Returns how
+    many were added."""
+    if len(P) == 0 or going_on:
         return 0
     return _resample(bb, surface, settings, bb.voxel_of(P))
 

@@ -284,14 +284,13 @@ class Session:
             self.ridges.waiting(self._in_regions) + len(self.ridges)
 
     @property
-    def _detail_due(self):
-        """Whether the detail phase (explorers, seeds beside silhouettes) is still to come."""
-        return self.settings.explore_detail and self._detail is None and bool(self.requests)
+    def _idle(self):
+        """No task left, nor the detail phase (explorers, seeds beside silhouettes) to come."""
+        return self.tasks_left == 0 and not (self.settings.explore_detail and self._detail is None and self.requests)
 
     @property
     def done(self):
-        # the detail phase may still add tasks, and so may the voxels where traces were lost
-        return self.tasks_left == 0 and not self._detail_due and not self.traces.lost
+        return self._idle and not self.traces.lost          # (where traces were lost: agents.detail.subdivide_at)
 
     def _open_seeds(self):
         ids = self.bb.open_features()
@@ -308,9 +307,9 @@ class Session:
             return False
         if self._walks is not None and self._detail is None and self.settings.explore_detail and self.requests:
             self._queue_detail()      # going on with the same model: a small detail phase, started at once
-        if self.tasks_left == 0 and not self._detail_due and self.traces.lost:
-            # nothing else to do: subdivide where traces were lost (each voxel once)
-            detail.subdivide_at(self.bb, self.surface, self.settings, self.traces.take_lost())
+        if self._idle and self.traces.lost:      # nothing else to do: subdivide where traces were lost
+            detail.subdivide_at(self.bb, self.surface, self.settings, self.traces.take_lost(),
+                                going_on=self.carried.init is not None)
         self._assign()
         touched = self.traces.step() + self.explorers.step()
         self.ridges.step()

@@ -52,5 +52,28 @@ def test_a_crease_the_rough_grid_missed_is_traced_from_where_its_neighbour_was_l
     subdivided = np.flatnonzero(s.bb.vox["subdivided"])
     assert 0 < len(subdivided) <= 40                          # the lost ends' voxels, not the model's
     # without subdividing there, the top is not traced
-    monkeypatch.setattr(detail, "subdivide_at", lambda *a: 0)
+    monkeypatch.setattr(detail, "subdivide_at", lambda *a, **kw: 0)
     assert len(top_of_the_cut(jug_session(load_example))) == 0
+
+
+def test_a_frame_going_on_with_the_same_model_follows_what_the_last_found(load_example):
+    """The next frame of a turning eye, going on from the jug's: no voxel is subdivided
+    again, and the crease over the handle's cut end, which the first frame found so, is
+    there (followed)."""
+    model = load_example("jug")
+    lo, hi = surface_box(M.Evaluator(model))
+    eyes = []
+    for az in (0.0, 2.0):
+        a = np.radians(az)
+        d = np.array([np.cos(a) * 1.0 - np.sin(a) * -1.4, np.sin(a) * 1.0 + np.cos(a) * -1.4, 0.8])
+        eyes.append(tuple(0.5 * (lo + hi) + 1.5 * np.linalg.norm(hi - lo) * d / np.linalg.norm(d)))
+    first = Session(model, View(eye=eyes[0]), Settings(), remember=True)
+    first.request("OUTLINES")
+    first.run()
+    assert first.bb.vox["subdivided"].any() and len(top_of_the_cut(first)) >= 20
+    going = Session(model, View(eye=eyes[1]), Settings(), previous=first.continuation(), remember=True)
+    going.request("OUTLINES")
+    going.run()
+    assert going.done and not going.traces.lost and not going.bb.vox["subdivided"].any()
+    y = np.sort(top_of_the_cut(going)[:, 1])
+    assert len(y) >= 20 and y[0] < -0.1 and y[-1] > 0.1 and np.diff(y).max() < 0.25 * going.step_len
