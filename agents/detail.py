@@ -131,7 +131,7 @@ def missed_sheets(ev, mesh):
 _AXES = np.concatenate([np.eye(3), -np.eye(3)])
 _MARCH = np.linspace(0.0, 2.0, 17)
 MAX_WALL_PROBES = 20000
-MAX_SUBDIVIDED = 4000           # voxels subdivided around subtracted parts, at most
+MAX_SUBDIVIDED = 4000           # voxels subdivided at once, at most
 
 
 def subtracted_walls(surface, h, root):
@@ -185,8 +185,6 @@ def subdivide(bb, surface, settings, P, C):
     cand = mid[:, None, :] + _BLOCK[None]                                   # (m, 125, 3)
     inside = np.all((cand >= lo[:, None]) & (cand <= hi[:, None]), axis=2)
     ijk = unique_rows(cand[inside])
-    if len(ijk) > MAX_SUBDIVIDED:       # a spread subset: the fine sampling's cost stays bounded
-        ijk = ijk[np.linspace(0, len(ijk) - 1, MAX_SUBDIVIDED).astype(int)]
     return _resample(bb, surface, settings, ijk)
 
 
@@ -213,6 +211,9 @@ def _resample(bb, surface, settings, ijk):
     kinds = [kind for kind in ("silhouette", "crease") if kind in settings.kinds]
     if not k or not kinds or len(ijk) == 0:
         return 0
+    ijk = unique_rows(np.asarray(ijk, np.int64).reshape(-1, 3))
+    if len(ijk) > MAX_SUBDIVIDED:       # a spread subset: the fine sampling's cost stays bounded
+        ijk = ijk[np.linspace(0, len(ijk) - 1, MAX_SUBDIVIDED).astype(int)]
     ijk = bb.unsubdivided(ijk)
     added = 0
     for kind, (pos, a, b) in fine_features(surface.ev, bb.lo, bb.h, ijk, k, surface.view, settings.crease_angle,

@@ -62,10 +62,10 @@ def across_scales(outlines, link):
     scale's stitching sees only its own and its own reach. An end left free reaches the
     nearest point ahead of it of a piece of another scale within MEET of the coarse
     step (:func:`agents.stitch.join_ends`): a fine trace stops short where it meets a
-    coarse one's point (a window's rim meeting the frame's crease), that much away. A
-    crease's points carry one
-    of its sheets' normals, which need not agree across the gap (a rounded corner of
-    that rim): creases are joined whatever their normals. A joined outline takes the
+    coarse one's point (a window's rim meeting the frame's crease), that much away;
+    closed outlines are reached too, never joined. A crease's points carry one of its
+    sheets' normals, which need not agree across the gap (a rounded corner of that
+    rim): creases are joined whatever their normals. A joined outline takes the
     finer step; one whose ends so meet is closed. Returns the outlines and, for each
     joined one, (the step each of its segments is measured against, which joins must
     hold the line) (segment i runs from point i to the next; a closed outline's last, to
@@ -93,6 +93,8 @@ def across_scales(outlines, link):
         group = np.where(step == coarse, -1, member)        # the coarse pieces are stitched together already
         first = np.cumsum(sizes) - sizes
         chains = [list(range(f, f + n)) for f, n in zip(first.tolist(), sizes)]
+        for c in range(len(mine), len(chains)):
+            chains[c].append(chains[c][0])               # a ring's ends meet: it has no free end
         for idx, closed in join_ends(P, N, chains, link * step, reach=MEET * coarse, ahead=MEET_AHEAD, group=group,
                                      apart=link * coarse, same_sheet=-1.0 if kind == "crease" else SAME_SHEET):
             m, st = member[idx], step[idx]

@@ -290,7 +290,8 @@ class Session:
 
     @property
     def done(self):
-        return self._idle and not self.traces.lost          # (where traces were lost: agents.detail.subdivide_at)
+        """Idle, and the voxels where traces were lost subdivided (agents.detail.subdivide_at)."""
+        return self._idle and not self.traces.lost
 
     def _open_seeds(self):
         ids = self.bb.open_features()

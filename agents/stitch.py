@@ -58,10 +58,10 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None,
     per joined chain (closed: its own two ends within ``link``, or pieces joined round);
     with ``reach``, a free end's reach (:func:`_reach_across`: True, REACH of its link;
     or a distance per point of P; ``ahead`` of its direction) extends ``chains``' lists
-    in place. Given ``group``
-    (per point of P), only ends of different groups join; given ``apart`` (a link per point of P), two ends join
-    across REACH of the wider of theirs instead (a chain still closes on itself within
-    ``link``)."""
+    in place. Given ``group`` (per point of P), only ends of different groups join, and
+    an end reaches only another group's points; given ``apart`` (a link per point of
+    P), two ends join across REACH of the wider of theirs instead (a chain still closes
+    on itself within ``link``)."""
     link = np.broadcast_to(np.asarray(link, float), (len(P),))
     apart = link if apart is None else np.broadcast_to(np.asarray(apart, float), (len(P),))
     ends = [(c, e) for c, idx in enumerate(chains) for e in (0, 1) if not _closed(P, idx, link)]
@@ -91,7 +91,8 @@ def join_ends(P, N, chains, link, reach=True, same_sheet=SAME_SHEET, group=None,
     reached = set()
     if reach is not False:
         within = REACH * link if reach is True else np.broadcast_to(np.asarray(reach, float), (len(P),))
-        reached = _reach_across(P, N, chains, [x for x in ends if x not in partner], within, same_sheet, ahead)
+        reached = _reach_across(P, N, chains, [x for x in ends if x not in partner], within, same_sheet, ahead,
+                                group)
     out, seen = [], set()
 
     def walk(c, e):
@@ -125,10 +126,14 @@ def _closed(P, idx, link):
     return len(idx) > 3 and np.linalg.norm(P[idx[0]] - P[idx[-1]]) < max(link[idx[0]], link[idx[-1]])
 
 
-def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD):
+def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD, group=None):
     """Free ends (chain, 0 start / 1 end) reach the nearest point of another chain that
     lies ahead of them (within ``within`` of the end, per point of P, and ``ahead`` of
-    its direction) on the same sheet (``same_sheet``): it becomes their chain's last point.
+    its direction) on the same sheet (``same_sheet``; given ``group``, of another
+    group), if the end heads across that line there (HEADING, of the gap's part across
+    the line's tangent) or lies on its run (that part within LATERAL of the gap), not
+    beside a line running alongside: it becomes their chain's last point (of two ends
+    that run on to each other's chains, the first only). Returns the ends so extended.
     A trace stops short where it meets another outline, and where it met that one's
     middle (a cusp, a junction) no free point was left there for the chaining to take."""
     if not free or len(chains) < 2:
@@ -142,7 +147,10 @@ def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD
     T = np.concatenate([_tangents(P[idx]) for idx in chains])
     i, j = pairs_within(P[tip], P[every], float(within[tip].max()))
     mine = np.array([c for c, _ in free])
-    i, j = i[owner[j] != mine[i]], j[owner[j] != mine[i]]
+    other = owner[j] != mine[i]
+    if group is not None:
+        other &= group[every[j]] != group[tip[i]]
+    i, j = i[other], j[other]
     gap = P[every[j]] - P[tip[i]]
     dist = np.linalg.norm(gap, axis=1)
     ok = ((dist <= within[tip[i]]) & (np.einsum("ij,ij->i", d[i], gap) >= ahead * dist)
@@ -161,7 +169,7 @@ def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD
     for k, q in target.items():
         c, e = free[k]
         other = tip_of.get(q)
-        if other is not None and other < k and target.get(other) in chains[c]:
+        if other is not None and free[other] in reached and target[other] in chains[c]:
             continue                                # two ends that reach each other: one join
         if e == 0:
             chains[c].insert(0, q)

@@ -285,7 +285,7 @@ class Traces:
             elif lone_[i] and loop.hit(sw[i]) is None:
                 fate[i] = TURN             # trace the other way from the seed
         loop.commit()
-        lost = np.flatnonzero(~ok & ~retry)     # where, and a step ahead (agents.detail.subdivide_at)
+        lost = np.flatnonzero(~ok & ~retry & np.isin(kinds, [KIND_ID["silhouette"], KIND_ID["crease"]]))
         self.lost += [np.concatenate([tk.p[lost], tk.p[lost] + tk.t[lost] * base[lost, None]])] if len(lost) else []
         kept = np.flatnonzero(fate == KEEP)
         tk.reach[kept] = np.maximum(tk.reach[kept], apart[kept])

@@ -171,7 +171,7 @@ def test_a_rim_traced_at_two_scales_is_one_closed_outline():
     assert len(sil) == 2 and not any(o.closed for o in sil)
 
 
-def test_across_scales_only_ends_that_face_each_other_join():
+def test_across_scales_an_end_runs_on_to_a_line_it_stopped_short_of():
     """Two creases of different scales meeting at a right angle (a box's corner) stay
     two outlines, the fine one running on to the coarse one's nearest point ahead (its
     trace stopped short of it: within MEET of the coarse step); one whose end lies
@@ -204,3 +204,42 @@ def test_across_scales_only_ends_that_face_each_other_join():
     near = np.stack([np.linspace(1.0 + 0.5 * STEP, 3.0, 21), np.zeros(21), np.zeros(21)], axis=1)
     joined = stitch_scales([Outline("crease", along, n, False, fine), Outline("crease", near, n[:21], False, STEP)])
     assert len(joined) == 1 and len(joined[0].points) == 82 and not joined[0].closed
+
+
+def test_across_scales_a_closed_ring_is_reached_never_joined():
+    """A fine crease stopped short of a coarse closed rim (a window's rim) runs on to the
+    rim's nearest point ahead; a fine piece across the rim's seam, which is wider than a
+    link (its pieces were joined round), does not take the rim's end: the rim is drawn
+    once, closed, as it was."""
+    from blobtree_ink.agents.outline import stitch_scales
+    fine = STEP / 6
+    t = np.linspace(0.0, 2 * np.pi - 1.3 * LINK, 60)            # a seam of 1.3 links
+    ring = np.stack([np.cos(t), np.sin(t), 0 * t], axis=1)
+    assert np.linalg.norm(ring[0] - ring[-1]) > LINK
+    rim = Outline("crease", ring, np.tile(UP, (60, 1)), True, STEP)
+    spoke = np.stack([np.full(31, 0.3), np.linspace(-0.3, -0.9, 31), np.zeros(31)], axis=1)   # heads down to the rim
+    across = np.stack([np.linspace(1.2, 0.8, 25), np.full(25, -0.24), np.zeros(25)], axis=1)  # just ahead of the seam
+    out = stitch_scales([rim, Outline("crease", spoke, np.tile(UP, (31, 1)), False, fine),
+                         Outline("crease", across, np.tile(UP, (25, 1)), False, fine)])
+    rings = [o for o in out if len(o.points) >= 60]
+    assert len(rings) == 1 and rings[0].closed and np.allclose(rings[0].points, ring)
+    ran = [o for o in out if len(o.points) == 32]
+    assert len(ran) == 1 and not ran[0].closed and np.isclose(np.linalg.norm(ran[0].points[-1][:2]), 1.0)
+
+
+def test_across_scales_coarse_pieces_stitch_alike_beside_a_fine_piece_far_away():
+    """A coarse crease ending beside another's end, 50 degrees off pointing at it (within
+    MEET_AHEAD, not AHEAD): a fine piece elsewhere in the model does not make it run on
+    to the other (coarse pieces were stitched with their own rules)."""
+    from blobtree_ink.agents.outline import MEET, stitch_scales
+    a = line(0.0, 1.0)
+    d = np.array([np.cos(np.radians(-40.0)), np.sin(np.radians(-40.0)), 0.0])
+    b = np.array([1.0, 0.06, 0.0]) - np.arange(7, -1, -1)[:, None] * STEP * d        # ends heading down to a
+    assert np.linalg.norm(b[-1] - a[-1]) < MEET * STEP
+    pieces = [Outline("crease", a, np.tile(UP, (11, 1)), False, STEP), Outline("crease", b, np.tile(UP, (8, 1)), False, STEP)]
+    alone = stitch_scales(pieces)
+    assert sorted(len(o.points) for o in alone) == [8, 11]
+    x = np.linspace(10.0, 11.0, 61)
+    far = Outline("crease", np.stack([x, np.full(61, 5.0), 0 * x], axis=1), np.tile(UP, (61, 1)), False, STEP / 6)
+    beside = stitch_scales(pieces + [far])
+    assert sorted(len(o.points) for o in beside) == [8, 11, 61]
