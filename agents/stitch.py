@@ -13,6 +13,7 @@ import numpy as np
 
 from ..blackboard.cells import pairs_within
 from ..blackboard.keys import unique_rows
+from ..model.vectors import tangents
 
 REACH = 1.6         # ends pointing at each other are joined across up to this many links
 AHEAD = 0.8         # ... each end's direction within about 37 degrees of the gap's
@@ -142,9 +143,10 @@ def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD
     back = np.array([chains[c][1] if e == 0 else chains[c][-2] for c, e in free])
     d = P[tip] - P[back]
     d /= np.maximum(np.linalg.norm(d, axis=1, keepdims=True), 1e-300)
+    sizes = np.array([len(idx) for idx in chains])
     every = np.concatenate([np.asarray(idx) for idx in chains])
-    owner = np.repeat(np.arange(len(chains)), [len(idx) for idx in chains])
-    T = np.concatenate([_tangents(P[idx]) for idx in chains])
+    owner = np.repeat(np.arange(len(chains)), sizes)
+    T = tangents(P[every], np.cumsum(sizes) - sizes, sizes)
     i, j = pairs_within(P[tip], P[every], float(within[tip].max()))
     mine = np.array([c for c, _ in free])
     other = owner[j] != mine[i]
@@ -177,16 +179,6 @@ def _reach_across(P, N, chains, free, within, same_sheet=SAME_SHEET, ahead=AHEAD
             chains[c].append(q)
         reached.add((c, e))
     return reached
-
-
-def _tangents(Q):
-    """Unit tangents of a polyline's points (its neighbours' chord; an end's, its segment)."""
-    if len(Q) < 2:
-        return np.zeros_like(Q)
-    T = np.empty_like(Q)
-    T[1:-1] = Q[2:] - Q[:-2]
-    T[0], T[-1] = Q[1] - Q[0], Q[-1] - Q[-2]
-    return T / np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
 
 
 def _merge_close(P, N, r):

@@ -15,3 +15,16 @@ def cross(a, b):
     np.subtract(a2 * b0, a0 * b2, out=out[..., 1])
     np.subtract(a0 * b1, a1 * b0, out=out[..., 2])
     return out
+
+
+def tangents(P, first, sizes):
+    """Each point's direction along its line (central differences, one-sided at the
+    ends; a line of one point: zero), of lines stored one after another in P with their
+    ``first`` rows and ``sizes``."""
+    nxt = np.arange(len(P)) + 1
+    prv = np.arange(len(P)) - 1
+    last = first + sizes - 1
+    nxt[last] = last
+    prv[first] = first
+    T = P[nxt] - P[prv]
+    return T / np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)

@@ -23,6 +23,7 @@ from ..blackboard.cells import PointHash, pairs_within
 from ..model import keyed
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
+from ..model.vectors import tangents
 from .hatch_join import join
 from .layers import spawn_flocks
 
@@ -75,18 +76,6 @@ class HatchMap:
 
     def sizes(self):
         return np.diff(np.append(self.start, len(self.points)))
-
-
-def tangents(P, first, sizes):
-    """Each point's direction along its line (central differences, one-sided at the
-    ends), of lines with their ``first`` rows and ``sizes``."""
-    nxt = np.arange(len(P)) + 1
-    prv = np.arange(len(P)) - 1
-    last = first + sizes - 1
-    nxt[last] = last
-    prv[first] = first
-    T = P[nxt] - P[prv]
-    return T / np.maximum(np.linalg.norm(T, axis=1, keepdims=True), 1e-300)
 
 
 def spread(hmap):

@@ -12,8 +12,8 @@ import numpy as np
 from . import tone as TN
 from ..blackboard.cells import pairs_within
 from ..model import keyed
+from ..model.vectors import tangents
 from .data import Stroke
-from .hatch_map import tangents
 from .visibility import piece, run_points, visible_marks
 
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
