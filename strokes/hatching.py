@@ -19,7 +19,11 @@ from .visibility import piece, run_points, visible_marks
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
 TURNING = 0.08          # a line ends where the surface turns this far from the eye (the cosine of n and the view)
-SHORTEST = 4            # points: a line cut shorter is not drawn (a scrap, not a line)
+SHORTEST = 4            # points: a line cut shorter is not drawn (a scrap, not a line) ...
+TICK = 2                # ... but a piece that crosses a small patch of shade whole (not cut by an outline) is
+                        # drawn from this long: the patch's short mark
+SLIM = 4.0              # a mark (or the part of one in sight) is drawn if this many times as long as it is wide
+                        # on the paper (a shorter one, seen end on or mostly hidden, reads as a blot)
 
 
 def width(t, radius, contrast):
@@ -147,7 +151,7 @@ def draw(layer, hmap, lines=None):
     cut = np.zeros(len(P), bool)                        # a step into the point crosses a visible outline
     inner = local > 0
     cut[inner] = crossing(q[np.flatnonzero(inner) - 1], q[inner])
-    runs = _runs(drawn, cut, first, sizes)
+    runs = [(a, b) for a, b in _runs(drawn, cut, first, sizes) if b - a >= SHORTEST or slim(q[a:b], w[a:b])]
     if not runs:
         return []
     pieces = [np.arange(a, b) for a, b in runs]
@@ -159,9 +163,10 @@ def draw(layer, hmap, lines=None):
     for k, vis in enumerate(visible_marks(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
         for run in vis:
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
-            pts = run_points(P[idx], run)
-            if len(pts) >= 2:
-                out.append(Stroke(pts, piece(r, run), np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
+            pts, rad = run_points(P[idx], run), piece(r, run)
+            xy, sc = layer.paper.place(pts)
+            if len(pts) >= 2 and slim(xy, 2.0 * rad * sc):
+                out.append(Stroke(pts, rad, np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
                 owner.append(line[idx[at[k]]])
     return spread_ends(layer.paper, out, np.asarray(owner, np.int64), 2.0 * layer.radius, layer.drawn)
 
@@ -175,8 +180,9 @@ def spread_ends(paper, strokes, rank, widest, drawn):
     (point by point) while that end would make more than END_MOST ends within END_REACH
     widest line widths of it or of an end taken before (this part's, or the parts'
     before: ``drawn``, a strokes.paper.Placed of the layer's line ends, added to), on
-    the paper; left out where that leaves it shorter than SHORTEST. Lines that run into a
-    corner or a seam of the field end one after another, not in one blot."""
+    the paper; left out where that leaves it shorter than SHORTEST (or than itself, a
+    short mark). Lines that run into a corner or a seam of the field end one after
+    another, not in one blot."""
     E, R = drawn.places[:, :2], drawn.reach                # two ends are near within the smaller of their reaches
     count = np.zeros(len(E), np.int64)
     if len(E):
@@ -193,11 +199,12 @@ def spread_ends(paper, strokes, rank, widest, drawn):
         xy, scale = paper.place(s.points)
         reach = END_REACH * widest * scale
         a, b = 0, len(xy)
-        while b - a >= SHORTEST and crowds(xy[a, :2], reach[a])[0]:
+        least = max(TICK, min(SHORTEST, b))
+        while b - a >= least and crowds(xy[a, :2], reach[a])[0]:
             a += 1
-        while b - a >= SHORTEST and crowds(xy[b - 1, :2], reach[b - 1])[0]:
+        while b - a >= least and crowds(xy[b - 1, :2], reach[b - 1])[0]:
             b -= 1
-        if b - a < SHORTEST:
+        if b - a < least:
             continue
         for end in (a, b - 1):
             near = crowds(xy[end, :2], reach[end])[1]
@@ -256,9 +263,26 @@ def widths(layer, hmap, P, N, T, level, key, spread=None):
     return np.where(facing & (c > 0), w, 0.0), scale
 
 
+def slim(xy, widths):
+    """Whether a mark through these places on the paper, this wide at them, is at least
+    SLIM times as long as it is wide (a shorter one reads as a blot)."""
+    return bool(np.linalg.norm(np.diff(np.asarray(xy)[:, :2], axis=0), axis=1).sum() >= SLIM * np.max(widths))
+
+
+def _cut_short(go, cut, x, y):
+    """Whether the run of rows [x, y) ends at an outline that cuts its line short:
+    where a step across a visible outline comes between it and a drawn point of its
+    line (a run that also ends with its tone there is not cut short by the outline)."""
+    before = cut[x] and x > 0 and go[x - 1]
+    after = y < len(go) and cut[y] and go[y]
+    return bool(before or after)
+
+
 def _runs(drawn, cut, first, sizes):
     """The (start, end) rows of the drawn runs of each line, split where a step crosses
-    an outline, at least SHORTEST points long."""
+    an outline: at least SHORTEST points long where an outline cuts them (a stub beside
+    the outline is a scrap), TICK where they begin and end with their tone or line (a
+    small patch of shade, such as a vein's flank, crossed whole)."""
     go = drawn.copy()
     brk = np.zeros(len(go) + 1, bool)
     brk[first] = True
@@ -271,6 +295,6 @@ def _runs(drawn, cut, first, sizes):
         inner = np.flatnonzero(brk[a + 1:b]) + a + 1
         bounds = [a] + inner.tolist() + [b]
         for x, y in zip(bounds[:-1], bounds[1:]):
-            if y - x >= SHORTEST:
+            if y - x >= (SHORTEST if _cut_short(go, cut, x, y) else TICK):
                 out.append((x, y))
     return out

@@ -107,6 +107,35 @@ def test_silhouette_shading_reaches_as_far_into_the_shade_as_the_light_asks(name
     assert f["outside"] == 0 and f["crossing"] == 0, f
 
 
+
+def test_small_patches_of_shade_get_short_marks(load_example):
+    """The heart's veins: their flanks are small patches of shade that a hatching line
+    crosses in a step or two. Each gets a short mark (a piece bounded by its tone), so
+    the light band across the veins is inked as its tone asks, not left white."""
+    f = figures("heart", "hatched", load_example("heart"))
+    assert f["tone_r"] >= 0.965, f
+    assert f["evenness"] <= 0.3, f
+    assert f["ends"] <= 10, f
+
+
+def test_a_piece_of_a_line_cut_by_an_outline_is_drawn_only_when_long_enough():
+    """A run of a map's line: two points across a patch of shade are a mark; a piece
+    shorter than SHORTEST that an outline cuts off the rest of its line is a scrap, left
+    out (an outline where the tone ends anyway cuts nothing short, so an outline moved
+    a little from frame to frame does not make a mark come and go)."""
+    from blobtree_ink.strokes import hatching as HT
+    drawn = np.array([0, 1, 1, 0, 0, 1, 1, 1, 1, 1, 1, 0], bool)     # one line of 12 points
+    cut = np.zeros(12, bool)
+    cut[8] = True                                                    # the step 7 -> 8 crosses an outline
+    runs = HT._runs(drawn, cut, np.array([0]), np.array([12]))
+    assert (1, 3) in runs                                            # a patch crossed whole: a short mark
+    assert (5, 8) not in runs and not any(a == 5 for a, _ in runs)   # 3 points up to the outline: a scrap
+    assert (8, 11) not in runs                                       # 3 points from it: a scrap too
+    cut[3] = True                                                    # an outline where the patch's tone ends
+    assert (1, 3) in HT._runs(drawn, cut, np.array([0]), np.array([12]))     # does not cut it short
+    cut[8] = False
+    assert HT._runs(drawn, cut, np.array([0]), np.array([12])) == [(1, 3), (5, 11)]
+
 def test_silhouette_shading_strokes_run_from_the_silhouette_towards_where_the_sphere_faces_the_eye():
     """On a lit sphere a stroke from the silhouette turns on past 60 degrees (the
     smarticles' usual limit: strokes stopped there would leave a ring of gaps)."""
