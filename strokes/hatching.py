@@ -151,7 +151,7 @@ def draw(layer, hmap, lines=None):
     cut = np.zeros(len(P), bool)                        # a step into the point crosses a visible outline
     inner = local > 0
     cut[inner] = crossing(q[np.flatnonzero(inner) - 1], q[inner])
-    runs = [(a, b) for a, b in _runs(drawn, cut, first, sizes) if b - a >= SHORTEST or slim(q[a:b], w[a:b])]
+    runs = _runs(drawn, cut, first, sizes)
     if not runs:
         return []
     pieces = [np.arange(a, b) for a, b in runs]
@@ -162,10 +162,14 @@ def draw(layer, hmap, lines=None):
     at = np.cumsum(psizes) - psizes
     for k, vis in enumerate(visible_marks(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
         for run in vis:
+            whole = run.a == 0 and run.b == psizes[k]           # (a part of a run in sight is a scrap below SHORTEST)
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
-            pts, rad = run_points(P[idx], run), piece(r, run)
+            pts = run_points(P[idx], run)
+            if len(pts) < (TICK if whole else SHORTEST):
+                continue
+            rad = piece(r, run)
             xy, sc = layer.paper.place(pts)
-            if len(pts) >= 2 and slim(xy, 2.0 * rad * sc):
+            if slim(xy, 2.0 * rad * sc):
                 out.append(Stroke(pts, rad, np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
                 owner.append(line[idx[at[k]]])
     return spread_ends(layer.paper, out, np.asarray(owner, np.int64), 2.0 * layer.radius, layer.drawn)
