@@ -14,7 +14,9 @@ from ..blackboard.cells import pairs_within
 from ..model import keyed
 from ..model.vectors import tangents
 from .data import Stroke
-from .visibility import piece, run_points, visible_marks
+from ..model.projection import project
+from ..model.tolerances import NEAR_SURFACE, on_surface
+from .visibility import ONTO_STEPS, piece, run_points, visible_marks
 
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
@@ -22,6 +24,7 @@ TURNING = 0.08          # a line ends where the surface turns this far from the 
 SHORTEST = 4            # points: a line cut shorter is not drawn (a scrap, not a line) ...
 TICK = 2                # ... but a piece that crosses a small patch of shade whole (not cut by an outline) is
                         # drawn from this long: the patch's short mark
+EDGE = 0.5              # steps: a piece that ends in a step where its tone ends runs on this far into it
 SLIM = 4.0              # a mark (or the part of one in sight) is drawn if this many times as long as it is wide
                         # on the paper (a shorter one, seen end on or mostly hidden, reads as a blot)
 
@@ -154,24 +157,21 @@ def draw(layer, hmap, lines=None):
     runs = _runs(drawn, cut, first, sizes)
     if not runs:
         return []
-    pieces = [np.arange(a, b) for a, b in runs]
-    psizes = np.array([len(x) for x in pieces])
-    idx = np.concatenate(pieces)
-    r = 0.5 * w[idx] / scale[idx]
+    RP, RN, r, psizes = _to_the_edges(layer, P, N, 0.5 * w / scale, drawn, cut, first, sizes, runs)
     out, owner = [], []
     at = np.cumsum(psizes) - psizes
-    for k, vis in enumerate(visible_marks(layer.sight, P[idx], psizes, layer.paper.eye, N[idx])):
+    for k, vis in enumerate(visible_marks(layer.sight, RP, psizes, layer.paper.eye, RN)):
         for run in vis:
             whole = run.a == 0 and run.b == psizes[k]           # (a part of a run in sight is a scrap below SHORTEST)
             run = run._replace(a=at[k] + run.a, b=at[k] + run.b)
-            pts = run_points(P[idx], run)
+            pts = run_points(RP, run)
             if len(pts) < (TICK if whole else SHORTEST):
                 continue
             rad = piece(r, run)
             xy, sc = layer.paper.place(pts)
             if slim(xy, 2.0 * rad * sc):
-                out.append(Stroke(pts, rad, np.ones(len(pts)), mark=int(hmap.key[line[idx[at[k]]]])))
-                owner.append(line[idx[at[k]]])
+                out.append(Stroke(pts, rad, np.ones(len(pts)), mark=int(hmap.key[line[runs[k][0]]])))
+                owner.append(line[runs[k][0]])
     return spread_ends(layer.paper, out, np.asarray(owner, np.int64), 2.0 * layer.radius, layer.drawn)
 
 
@@ -265,6 +265,46 @@ def widths(layer, hmap, P, N, T, level, key, spread=None):
     u = keyed.uniform(np.asarray(key, np.uint64), FRAY_SALT)
     w = np.where(w < thin, np.where(u * thin < w, thin, 0.0), w)
     return np.where(facing & (c > 0), w, 0.0), scale
+
+
+def _to_the_edges(layer, P, N, radius, drawn, cut, first, sizes, runs):
+    """The runs' points one after the other, with their normals and radii, each run
+    carried on EDGE of a step beyond an end where the next point of its line is not drawn
+    but faces the eye, lies in the region and is reached without crossing a visible
+    outline: its tone ends in that step (on average halfway), and a run that stopped at
+    its last point inside would leave a step's ink out at each end (half the ink of a
+    patch of shade two steps across). The new end is put onto the surface and drawn as
+    wide as the end it carries on. Returns the points, normals, radii and the runs'
+    sizes."""
+    A, B = np.array([a for a, _ in runs]), np.array([b for _, b in runs])
+    start, stop = np.repeat(first, sizes), np.repeat(first + sizes, sizes)
+    open_ = ~_turning(layer.paper, P, N) & ~drawn
+    if layer.rules.region is not None:
+        open_ &= layer.rules.region.contains(P)
+    head = (A - 1 >= start[A]) & open_[np.maximum(A - 1, 0)] & ~cut[A]
+    tail = (B < stop[B - 1]) & open_[np.minimum(B, len(P) - 1)] & ~cut[np.minimum(B, len(P) - 1)]
+    ends = np.concatenate([A[head], B[tail] - 1])
+    beyond = np.concatenate([A[head] - 1, B[tail]])
+    hx, tx = {}, {}
+    if len(ends):
+        X, f, g = project(layer.ev, P[ends] + EDGE * (P[beyond] - P[ends]), ONTO_STEPS)
+        onto = on_surface(f, layer.ev.iso, NEAR_SURFACE)
+        Nx = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+        for i, k in enumerate(np.concatenate([np.flatnonzero(head), np.flatnonzero(tail)])):
+            if onto[i]:
+                (hx if i < head.sum() else tx)[int(k)] = (X[i], Nx[i])
+    pts, nrm, rad, n = [], [], [], []
+    for k, (a, b) in enumerate(runs):
+        p, m, r = [P[a:b]], [N[a:b]], [radius[a:b]]
+        if k in hx:
+            p.insert(0, hx[k][0][None]), m.insert(0, hx[k][1][None]), r.insert(0, radius[a:a + 1])
+        if k in tx:
+            p.append(tx[k][0][None]), m.append(tx[k][1][None]), r.append(radius[b - 1:b])
+        pts += p
+        nrm += m
+        rad += r
+        n.append(sum(len(x) for x in p))
+    return np.concatenate(pts), np.concatenate(nrm), np.concatenate(rad), np.array(n)
 
 
 def slim(xy, widths):

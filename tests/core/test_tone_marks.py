@@ -109,12 +109,14 @@ def test_silhouette_shading_reaches_as_far_into_the_shade_as_the_light_asks(name
 
 def test_small_patches_of_shade_get_short_marks(load_example):
     """The heart's veins: their flanks are small patches of shade that a hatching line
-    crosses in a step or two. Each gets a short mark (a piece bounded by its tone), so
-    the light band across the veins is inked as its tone asks (without them: tone_r
-    0.957, evenness 0.37)."""
+    crosses in a step or two. Each gets a short mark (a piece bounded by its tone) that
+    runs on to where the tone ends, so the light band across the veins is inked as its
+    tone asks (without the marks: tone_r 0.957, evenness 0.37; marks that stop at their
+    last point inside the tone: 0.968, 0.296)."""
     f = figures("heart", "hatched", load_example("heart"))
-    assert f["tone_r"] >= 0.965, f
-    assert f["evenness"] <= 0.32, f
+    assert f["tone_r"] >= 0.971, f
+    assert f["evenness"] <= 0.275, f
+    assert 0.85 * f["mean_tone"] <= f["mean_ink"], f
     assert f["ends"] <= 10, f
 
 
