@@ -272,8 +272,8 @@ def _to_the_edges(layer, P, N, radius, drawn, cut, first, sizes, runs):
     carried on EDGE of a step beyond an end where the next point of its line is not drawn
     but faces the eye, lies in the region and is reached without crossing a visible
     outline: its tone ends in that step (on average halfway), and a run that stopped at
-    its last point inside would leave a step's ink out at each end (half the ink of a
-    patch of shade two steps across). The new end is put onto the surface and drawn as
+    its last point inside would leave half a step's ink out at each end (a step in all:
+    half the ink of a patch of shade two steps across). The new end is put onto the surface and drawn as
     wide as the end it carries on. Returns the points, normals, radii and the runs'
     sizes."""
     A, B = np.array([a for a, _ in runs]), np.array([b for _, b in runs])
@@ -290,9 +290,10 @@ def _to_the_edges(layer, P, N, radius, drawn, cut, first, sizes, runs):
         X, f, g = project(layer.ev, P[ends] + EDGE * (P[beyond] - P[ends]), ONTO_STEPS)
         onto = on_surface(f, layer.ev.iso, NEAR_SURFACE)
         Nx = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+        heads = int(head.sum())
         for i, k in enumerate(np.concatenate([np.flatnonzero(head), np.flatnonzero(tail)])):
             if onto[i]:
-                (hx if i < head.sum() else tx)[int(k)] = (X[i], Nx[i])
+                (hx if i < heads else tx)[int(k)] = (X[i], Nx[i])
     pts, nrm, rad, n = [], [], [], []
     for k, (a, b) in enumerate(runs):
         p, m, r = [P[a:b]], [N[a:b]], [radius[a:b]]
