@@ -21,9 +21,10 @@ from .visibility import ONTO_STEPS, piece, run_points, visible_marks
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
 TURNING = 0.08          # a line ends where the surface turns this far from the eye (the cosine of n and the view)
-SHORTEST = 4            # points: a line cut shorter is not drawn (a scrap, not a line) ...
-TICK = 2                # ... but a piece that crosses a small patch of shade whole (not cut by an outline) is
-                        # drawn from this long: the patch's short mark
+SHORTEST = 4            # points: a line (a grown one, or a part of one left in sight) cut shorter is a scrap ...
+TICK = 2                # ... but a piece of a map's line across a small patch of shade, between where its tone,
+                        # the facing surface, the region, the line or a visible outline ends it, is drawn from
+                        # this long: the patch's short mark
 EDGE = 0.5              # steps: a piece that ends in a step where its tone ends runs on this far into it
 SLIM = 4.0              # a mark (or the part of one in sight) is drawn if this many times as long as it is wide
                         # on the paper (a shorter one, seen end on or mostly hidden, reads as a blot)
@@ -314,20 +315,10 @@ def slim(xy, widths):
     return bool(np.linalg.norm(np.diff(np.asarray(xy)[:, :2], axis=0), axis=1).sum() >= SLIM * np.max(widths))
 
 
-def _cut_short(go, cut, x, y):
-    """Whether the run of rows [x, y) ends at an outline that cuts its line short:
-    where a step across a visible outline comes between it and a drawn point of its
-    line (a run that also ends with its tone there is not cut short by the outline)."""
-    before = cut[x] and x > 0 and go[x - 1]
-    after = y < len(go) and cut[y] and go[y]
-    return bool(before or after)
-
-
 def _runs(drawn, cut, first, sizes):
     """The (start, end) rows of the drawn runs of each line, split where a step crosses
-    an outline: at least SHORTEST points long where an outline cuts them (a stub beside
-    the outline is a scrap), TICK where they begin and end with their tone or line (a
-    small patch of shade, such as a vein's flank, crossed whole)."""
+    an outline, at least TICK points long: a small patch of shade (a vein's flank, a
+    strip of a face between two windows) crossed in a step gets its short mark."""
     go = drawn.copy()
     brk = np.zeros(len(go) + 1, bool)
     brk[first] = True
@@ -340,6 +331,6 @@ def _runs(drawn, cut, first, sizes):
         inner = np.flatnonzero(brk[a + 1:b]) + a + 1
         bounds = [a] + inner.tolist() + [b]
         for x, y in zip(bounds[:-1], bounds[1:]):
-            if y - x >= (SHORTEST if _cut_short(go, cut, x, y) else TICK):
+            if y - x >= TICK:
                 out.append((x, y))
     return out

@@ -120,28 +120,21 @@ def test_small_patches_of_shade_get_short_marks(load_example):
     assert f["ends"] <= 10, f
 
 
-def test_a_piece_of_a_line_cut_by_an_outline_is_drawn_only_when_long_enough():
-    """A run of a map's line: two points across a patch of shade are a mark; a piece
-    shorter than SHORTEST that an outline cuts off the rest of its line is a scrap, left
-    out (an outline where the tone ends anyway cuts nothing short, so an outline moved
-    a little from frame to frame does not make a mark come and go)."""
+def test_a_map_line_is_drawn_in_pieces_from_two_points_between_its_tone_and_the_outlines():
+    """A run of a map's line is split where a step crosses a visible outline; every piece
+    of at least TICK points is a mark (a small patch of shade, a strip of a face between
+    two windows), a lone point is not; pieces never run from one line into the next."""
     from blobtree_ink.strokes import hatching as HT
-    drawn = np.array([0, 1, 1, 0, 0, 1, 1, 1, 1, 1, 1, 0], bool)     # one line of 12 points
-    cut = np.zeros(12, bool)
+    drawn = np.array([0, 1, 1, 0, 0, 1, 1, 1, 1, 1, 1, 0, 1, 0], bool)     # one line of 14 points
+    cut = np.zeros(14, bool)
     cut[8] = True                                                    # the step 7 -> 8 crosses an outline
-    runs = HT._runs(drawn, cut, np.array([0]), np.array([12]))
-    assert (1, 3) in runs                                            # a patch crossed whole: a short mark
-    assert (5, 8) not in runs and not any(a == 5 for a, _ in runs)   # 3 points up to the outline: a scrap
-    assert (8, 11) not in runs                                       # 3 points from it: a scrap too
-    cut[3] = True                                                    # an outline where the patch's tone ends
-    assert (1, 3) in HT._runs(drawn, cut, np.array([0]), np.array([12]))     # does not cut it short
-    cut[8] = False
-    assert HT._runs(drawn, cut, np.array([0]), np.array([12])) == [(1, 3), (5, 11)]
+    assert HT._runs(drawn, cut, np.array([0]), np.array([14])) == [(1, 3), (5, 8), (8, 11)]
+    cut[6] = True                                                    # and the step 5 -> 6: a lone point left
+    assert HT._runs(drawn, cut, np.array([0]), np.array([14])) == [(1, 3), (6, 8), (8, 11)]
     two = np.array([0, 0, 1, 1, 1, 1, 1, 1, 1], bool)                # two lines of 4 and 5 points, drawn from
     cut = np.zeros(9, bool)                                          # the first's third point on
     cut[6] = True                                                    # the second line's step 5 -> 6
-    assert HT._runs(two, cut, np.array([0, 4]), np.array([4, 5])) == [(2, 4)]   # the first line's end: a
-                                                                     # mark; 2 + 3 points beside the outline
+    assert HT._runs(two, cut, np.array([0, 4]), np.array([4, 5])) == [(2, 4), (4, 6), (6, 9)]
 
 
 def test_a_mark_shorter_on_the_paper_than_slim_times_its_width_is_a_blot():
