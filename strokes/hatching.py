@@ -21,10 +21,11 @@ from .visibility import ONTO_STEPS, piece, run_points, visible_marks
 THINNEST = 0.35          # at contrast 1 the lines of the lightest tone have this share of the darkest's width
 SPARSEST = 40.0         # line widths: the spacing of the lightest lines, at most
 TURNING = 0.08          # a line ends where the surface turns this far from the eye (the cosine of n and the view)
-SHORTEST = 4            # points: a line (a grown one, or a part of one left in sight) cut shorter is a scrap ...
-TICK = 2                # ... but a piece of a map's line across a small patch of shade, between where its tone,
-                        # the facing surface, the region, the line or a visible outline ends it, is drawn from
-                        # this long: the patch's short mark
+SHORTEST = 4            # points: a line (a grown one, a part of one left in sight, one shortened at crowded
+                        # ends) cut shorter is a scrap ...
+TICK = 2                # ... but every piece of a map's line, between where its tone, the facing surface, the
+                        # region, the line or a visible outline ends it, is drawn from this long: a small patch
+                        # of shade crossed in a step gets its short mark
 EDGE = 0.5              # steps: a piece that ends in a step where its tone ends runs on this far into it
 SLIM = 4.0              # a mark (or the part of one in sight) is drawn if this many times as long as it is wide
                         # on the paper (a shorter one, seen end on or mostly hidden, reads as a blot)
