@@ -147,7 +147,8 @@ def draw(layer, hmap, lines=None):
     first = np.cumsum(sizes) - sizes
     local = np.arange(len(P)) - np.repeat(first, sizes)
     T = tangents(P, first, sizes)
-    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line], hmap.spread[rows])
+    facing = ~_turning(layer.paper, P, N)
+    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line], hmap.spread[rows], facing)
     drawn = w > 0
     if layer.rules.region is not None:
         drawn &= layer.rules.region.contains(P)
@@ -159,7 +160,7 @@ def draw(layer, hmap, lines=None):
     runs = _runs(drawn, cut, first, sizes)
     if not runs:
         return []
-    RP, RN, r, psizes = _to_the_edges(layer, P, N, 0.5 * w / scale, drawn, cut, first, sizes, runs)
+    RP, RN, r, psizes = _to_the_edges(layer, P, N, 0.5 * w / scale, drawn, facing, cut, first, sizes, runs)
     out, owner = [], []
     at = np.cumsum(psizes) - psizes
     for k, vis in enumerate(visible_marks(layer.sight, RP, psizes, layer.paper.eye, RN)):
@@ -224,7 +225,7 @@ def spread_ends(paper, strokes, rank, widest, drawn):
     return out
 
 
-def widths(layer, hmap, P, N, T, level, key, spread=None):
+def widths(layer, hmap, P, N, T, level, key, spread=None, facing=None):
     """How wide (on the paper) each point of a map's lines is drawn, and the paper's scale
     there. Level 0's lines stand ``hmap.spacing`` apart on the surface, so S0 = spacing
     times how far apart the paper sets lines a unit apart on the surface (square to
@@ -238,7 +239,7 @@ def widths(layer, hmap, P, N, T, level, key, spread=None):
     of a line is scaled by how far apart the lines of its set really stand there, so
     that lines crowded together thin and lines far apart widen (or bring the next
     level in sooner), and the tone stays even."""
-    facing = ~_turning(layer.paper, P, N)
+    facing = ~_turning(layer.paper, P, N) if facing is None else facing
     t = np.zeros(len(P))
     t[facing] = layer.tone(P[facing], N[facing])
     c = TN.coverage(t, layer.share)
@@ -269,18 +270,19 @@ def widths(layer, hmap, P, N, T, level, key, spread=None):
     return np.where(facing & (c > 0), w, 0.0), scale
 
 
-def _to_the_edges(layer, P, N, radius, drawn, cut, first, sizes, runs):
+def _to_the_edges(layer, P, N, radius, drawn, facing, cut, first, sizes, runs):
     """The runs' points one after the other, with their normals and radii, each run
     carried on EDGE of a step beyond an end where the next point of its line is not drawn
     but faces the eye, lies in the region and is reached without crossing a visible
     outline: its tone ends in that step (on average halfway), and a run that stopped at
     its last point inside would leave half a step's ink out at each end (a step in all:
-    half the ink of a patch of shade two steps across). The new end is put onto the surface and drawn as
-    wide as the end it carries on. Returns the points, normals, radii and the runs'
+    half the ink of a patch of shade two steps across). The new end is put onto the
+    surface and drawn as wide as the end it carries on. ``facing``: which points face
+    the eye (as :func:`widths` found). Returns the points, normals, radii and the runs'
     sizes."""
     A, B = np.array([a for a, _ in runs]), np.array([b for _, b in runs])
     start, stop = np.repeat(first, sizes), np.repeat(first + sizes, sizes)
-    open_ = ~_turning(layer.paper, P, N) & ~drawn
+    open_ = facing & ~drawn
     if layer.rules.region is not None:
         open_ &= layer.rules.region.contains(P)
     head = (A - 1 >= start[A]) & open_[np.maximum(A - 1, 0)] & ~cut[A]
