@@ -18,6 +18,7 @@ from ..model.marks import surface_marks
 from ..model.projection import project
 from ..model.tolerances import NEAR_SURFACE, on_surface
 from ..strokes import cross_field as CF
+from ..strokes import density as DN
 from ..strokes import hatch_map as HM
 from ..strokes import grown as GR
 from ..strokes import hatching as HT
@@ -309,7 +310,12 @@ def hatching(cv, sampling, st, region, part, cross=False, lines=None, outlines=(
     each drawn as wide as its tone wants of its level (strokes.hatching.draw), ended at
     the visible ``outlines``."""
     layer = _layer(cv, st, region, seed, _share(st, cross), (None, None), st.hatch_steps, lines, outlines, _pen(cross))
-    return HT.draw(layer, hatch_map(cv, st, seed, cross), part)
+    hmap = hatch_map(cv, st, seed, cross)
+    key = ("hatch gain", cross, seed)
+    if key not in cv.cache:            # the whole map drawn once, measured on the paper (strokes.density); not
+        bare = dataclasses.replace(layer, outlines=[])       # cut at the outlines, which a frame that goes on
+        cv.cache[key] = DN.measure(bare, hmap, HT.marks(bare, hmap)[0])     # traces within their tolerance
+    return HT.draw(layer, hmap, part, cv.cache[key])
 
 
 def chains_parts(cv, sampling, marks, st, region):

@@ -129,26 +129,33 @@ def _outline_segments(layer):
 FRAY_SALT = 13          # where a line too thin for its tone's width is drawn at the thinnest (a salt, model.keyed)
 
 
-def draw(layer, hmap, lines=None):
+def draw(layer, hmap, lines=None, gain=None):
     """A frame's hatching from a hatching map (strokes.hatch_map) of the lines ``lines``
     (numbers; default all): each point of a line drawn as wide as the tone wants of its
-    level (:func:`widths`), the lines split where they leave the tone, turn from the
-    eye, leave the region, cross a visible outline or go out of sight, and shortened
-    where their ends would crowd (:func:`spread_ends`, in the map's order: lower levels,
-    then longer lines, first; the ends of the parts drawn before in ``layer.drawn``)."""
+    level (:func:`widths`, the coverage asked scaled by ``gain``, a strokes.density.Gain),
+    the lines split where they leave the tone, turn from the eye, leave the region, cross
+    a visible outline or go out of sight, and shortened where their ends would crowd
+    (:func:`spread_ends`, in the map's order: lower levels, then longer lines, first; the
+    ends of the parts drawn before in ``layer.drawn``)."""
+    out, owner = marks(layer, hmap, lines, gain)
+    return spread_ends(layer.paper, out, owner, 2.0 * layer.radius, layer.drawn)
+
+
+def marks(layer, hmap, lines=None, gain=None):
+    """:func:`draw`'s marks before their ends are spread, and the line each is of."""
     which = np.arange(len(hmap)) if lines is None else np.asarray(lines, np.int64)
     sizes = hmap.sizes()[which]
     rows = np.concatenate([np.arange(a, a + n) for a, n in zip(hmap.start[which], sizes)]) if len(which) else \
         np.zeros(0, np.int64)
     if len(rows) == 0:
-        return []
+        return [], np.zeros(0, np.int64)
     P, N = hmap.points[rows], hmap.normals[rows]
     line = np.repeat(which, sizes)
     first = np.cumsum(sizes) - sizes
     local = np.arange(len(P)) - np.repeat(first, sizes)
     T = tangents(P, first, sizes)
     facing = ~_turning(layer.paper, P, N)
-    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line], hmap.spread[rows], facing)
+    w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line], hmap.spread[rows], facing, gain)
     drawn = w > 0
     if layer.rules.region is not None:
         drawn &= layer.rules.region.contains(P)
@@ -159,7 +166,7 @@ def draw(layer, hmap, lines=None):
     cut[inner] = crossing(q[np.flatnonzero(inner) - 1], q[inner])
     runs = _runs(drawn, cut, first, sizes)
     if not runs:
-        return []
+        return [], np.zeros(0, np.int64)
     RP, RN, r, psizes = _to_the_edges(layer, P, N, 0.5 * w / scale, drawn, facing, cut, first, sizes, runs)
     out, owner = [], []
     at = np.cumsum(psizes) - psizes
@@ -175,7 +182,7 @@ def draw(layer, hmap, lines=None):
             if slim(xy, 2.0 * rad * sc):
                 out.append(Stroke(pts, rad, np.ones(len(pts)), mark=int(hmap.key[line[runs[k][0]]])))
                 owner.append(line[runs[k][0]])
-    return spread_ends(layer.paper, out, np.asarray(owner, np.int64), 2.0 * layer.radius, layer.drawn)
+    return out, np.asarray(owner, np.int64)
 
 
 END_REACH = 6.0         # widest line widths: within this of any line end on the paper ...
@@ -225,7 +232,7 @@ def spread_ends(paper, strokes, rank, widest, drawn):
     return out
 
 
-def widths(layer, hmap, P, N, T, level, key, spread=None, facing=None):
+def widths(layer, hmap, P, N, T, level, key, spread=None, facing=None, gain=None):
     """How wide (on the paper) each point of a map's lines is drawn, and the paper's scale
     there. Level 0's lines stand ``hmap.spacing`` apart on the surface, so S0 = spacing
     times how far apart the paper sets lines a unit apart on the surface (square to
@@ -238,12 +245,15 @@ def widths(layer, hmap, P, N, T, level, key, spread=None, facing=None):
     With the map's ``spread`` at the points (strokes.hatch_map.spread) the coverage asked
     of a line is scaled by how far apart the lines of its set really stand there, so
     that lines crowded together thin and lines far apart widen (or bring the next
-    level in sooner), and the tone stays even."""
+    level in sooner), and the tone stays even; with a ``gain`` (strokes.density.Gain)
+    it is scaled by the gain at the point's place on the paper."""
     facing = ~_turning(layer.paper, P, N) if facing is None else facing
     t = np.zeros(len(P))
     t[facing] = layer.tone(P[facing], N[facing])
     c = TN.coverage(t, layer.share)
     q, scale = layer.paper.place(P)
+    if gain is not None:
+        c = c * gain.at(q)
     eps = 1e-3 * hmap.spacing
     a = layer.paper.place(P + eps * np.cross(N, T))[0] - q      # a step across the line and one along it, on
     along = layer.paper.place(P + eps * T)[0] - q               # the paper: lines a spacing apart stand apart

@@ -147,6 +147,20 @@ def hits_each(sight, P, eye, normals=None, step=None, offset=None):
     return np.array(out)
 
 
+def first_hits(ev, eye, D, step):
+    """Where rays from ``eye`` along unit directions D (n, 3) first meet ev's solid,
+    sampled ``step`` apart (the first sample inside: within a step past the surface),
+    and which rays meet it."""
+    box = surface_box(ev)
+    lo, hi = box if box is not None else ev.bounds
+    far = float(np.linalg.norm(np.asarray(eye, float) - 0.5 * (np.asarray(lo) + np.asarray(hi)))
+                + np.linalg.norm(np.asarray(hi) - np.asarray(lo)))
+    start = np.broadcast_to(np.asarray(eye, float), np.shape(D)).copy()
+    t = _first_inside(ev, start, far * np.asarray(D, float), np.full(len(D), step / far))
+    hit = np.isfinite(t)
+    return start + np.where(hit, t, 0.0)[:, None] * far * np.asarray(D, float), hit
+
+
 def _first_inside(ev, start, D, dt):
     """The parameter t (of start + t D, t in [0, 1]) of each ray's first sample inside
     ev's solid, the samples dt apart from where the ray enters the solid's box: inf

@@ -2,6 +2,8 @@
 pipeline.continuation): what changed between two models, what a session keeps and what
 it seeds, and that a frame going on from the last equals one from scratch within the
 outline tolerance, for less work."""
+from dataclasses import replace
+
 import numpy as np
 
 from blobtree_ink import model as M
@@ -12,6 +14,7 @@ from blobtree_ink.agents.continuation import carried
 from blobtree_ink.blackboard.view import View
 from blobtree_ink.model import nodes as N
 from blobtree_ink.strokes import style as ST
+from blobtree_ink.strokes.data import LAYER_OF_KIND
 from blobtree_ink.strokes.smarticles import nearest_distance
 from helpers import same_marked, same_strokes
 
@@ -197,7 +200,9 @@ def test_a_settled_model_makes_every_marks_path_at_once(load_example):
     """A frame whose model is the last frame's makes the wandering smarticles' paths of
     every stipple mark, in shade or not: a next frame whose eye and light moved (other
     marks in shade) makes none; a hatching map is made once and kept. Its strokes are
-    those a frame alone draws (helpers.same_marked)."""
+    those a frame alone draws beside the same outlines (helpers.same_marked; a frame that
+    goes on traces its outlines within their tolerance of a frame alone's, and hatching
+    ends where a line crosses one)."""
     model = load_example("pear")
     for style, layer, made in (("stippled", "Stipples", "paths"), ("hatched", "Hatching", "hatch map")):
         first = PL.Illustration(job(model, EYE, style), remember=True)
@@ -211,7 +216,9 @@ def test_a_settled_model_makes_every_marks_path_at_once(load_example):
         third = PL.Illustration(job(model, eye, style, light), previous=second.continuation(), remember=True)
         res = third.run()
         assert {k: v if made == "hatch map" else len(v) for k, v in third.ev.memo.items() if k[0] == made} == kept
-        alone = PL.Illustration(job(model, eye, style, light)).run()
+        lines = tuple(s for name in LAYER_OF_KIND.values() for s in res.strokes.layers.get(name, ()))
+        alone = PL.Illustration(replace(job(model, eye, style, light), requests=(PL.Request("PLACE_STROKES"),),
+                                        lines=lines)).run()
         a, b = res.strokes.layers[layer], alone.strokes.layers[layer]
         same_marked(a, b, layer)
         # marks the first frames drew none from are drawn from in the third

@@ -90,10 +90,10 @@ def test_hatching_follows_the_light_and_its_field_without_fans(name, look):
     if not math.isnan(f["along"]):                      # (a sphere has no principal directions)
         assert f["along"] >= 0.95, f
     assert f["ends"] <= 10, f
-    assert f["evenness"] <= 0.3, f
+    assert f["evenness"] <= 0.22, f                 # (the ink measured on the paper and evened out: strokes.density)
     assert f["outside"] == 0 and f["crossing"] == 0, f
-    over = 1.2 if look == "hatched" else 1.3      # (flocks' lines overlap a little where flocks meet)
-    assert 0.8 * f["mean_tone"] <= f["mean_ink"] <= over * f["mean_tone"], f
+    over = 1.1 if look == "hatched" else 1.15     # (flocks' lines overlap a little where flocks meet)
+    assert 0.9 * f["mean_tone"] <= f["mean_ink"] <= over * f["mean_tone"], f
 
 
 @pytest.mark.parametrize("name", list(SMALL))

@@ -1,0 +1,120 @@
+"""How dark a hatching layer's lines make each patch of the paper against what the tone
+asks there, and the gain that evens them out (Vanderhaeghe et al. 2007: marks fixed on
+the object, density decided on the screen). A map's lines stand evenly on the surface
+and each is drawn as wide as its tone asks (strokes.hatching.widths), but where they are
+cut short (wrinkles, knots of the field, small parts), left out (scraps, blots, pieces
+out of sight) or crowd, a patch gets less or more ink than its tone: a first drawing of
+every line is measured on a grid of the paper against the tone of the surface that rays
+from the eye meet there, both smoothed, and their ratio (GAIN at most either way) scales
+the coverage each point of the lines asks in the drawing itself.
+"""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import tone as TN
+from ..model.projection import project
+from .visibility import first_hits, visible
+
+CELL = 0.5              # the grid's cells: this share of level 0's spacing across (on the paper)
+SMOOTH = 2.0            # ink and tone are smoothed by a Gaussian of this many cells before their ratio is taken
+GAIN = 2.0              # a point's coverage is scaled by at most this, or at least its inverse
+RAY_STEP = 4e-3         # the rays that sample the tone step this share of the model's scale
+ONTO = 2                # Newton steps that put a ray's hit onto the surface
+FAINT = 1e-3            # a smoothed tone below this asks nothing: no gain there
+
+
+@dataclass
+class Gain:
+    """A gain on a grid of the paper: cell (0, 0)'s centre at ``origin``, ``cell`` wide,
+    ``grid`` (rows along y, columns along x); 1 off the grid."""
+    origin: np.ndarray
+    cell: float
+    grid: np.ndarray
+
+    def at(self, places):
+        """The gain at places on the paper (n, 2 or 3), bilinear between cell centres."""
+        u = (np.asarray(places, float)[:, :2] - self.origin) / self.cell
+        ny, nx = self.grid.shape
+        out = np.ones(len(u))
+        inside = (u[:, 0] >= 0) & (u[:, 0] <= nx - 1) & (u[:, 1] >= 0) & (u[:, 1] <= ny - 1)
+        x, y = u[inside, 0], u[inside, 1]
+        i, j = np.minimum(np.floor(y).astype(np.int64), ny - 2), np.minimum(np.floor(x).astype(np.int64), nx - 2)
+        fy, fx = y - i, x - j
+        g = self.grid
+        out[inside] = ((1 - fy) * ((1 - fx) * g[i, j] + fx * g[i, j + 1])
+                       + fy * ((1 - fx) * g[i + 1, j] + fx * g[i + 1, j + 1]))
+        return out
+
+
+def _blur(img, sigma):
+    r = int(np.ceil(3 * sigma))
+    k = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    k /= k.sum()
+    img = np.apply_along_axis(lambda v: np.convolve(v, k, "same"), 0, img)
+    return np.apply_along_axis(lambda v: np.convolve(v, k, "same"), 1, img)
+
+
+def ink(paper, strokes, origin, cell, shape):
+    """The share of each cell of a grid of the paper that the strokes cover: each
+    segment as long and as wide (its ends' mean) as it is on the paper, in the cell of
+    its middle."""
+    out = np.zeros(shape)
+    for s in strokes:
+        xy, scale = paper.place(s.points)
+        if len(xy) < 2:
+            continue
+        length = np.linalg.norm(np.diff(xy[:, :2], axis=0), axis=1)
+        wide = (s.radius * scale)[:-1] + (s.radius * scale)[1:]             # twice the mean radius
+        mid = 0.5 * (xy[1:, :2] + xy[:-1, :2])
+        ij = np.round((mid - origin) / cell).astype(np.int64)
+        ok = (ij[:, 0] >= 0) & (ij[:, 0] < shape[1]) & (ij[:, 1] >= 0) & (ij[:, 1] < shape[0])
+        np.add.at(out, (ij[ok, 1], ij[ok, 0]), length[ok] * wide[ok])
+    return out / cell ** 2
+
+
+def asked(layer, origin, cell, shape):
+    """The coverage the layer's tone asks at each cell's centre: of the surface a ray from
+    the eye first meets there, where it faces the eye (by more than the layer's turning)
+    and lies in the layer's region and in sight; 0 elsewhere."""
+    paper, ev = layer.paper, layer.ev
+    ys, xs = np.mgrid[0:shape[0], 0:shape[1]]
+    xy = origin + cell * np.column_stack([xs.ravel(), ys.ravel()])
+    D = np.column_stack([xy, np.full(len(xy), paper.reach)]) @ paper.axes.T
+    D /= np.linalg.norm(D, axis=1, keepdims=True)
+    X, hit = first_hits(ev, paper.eye, D, RAY_STEP * ev.scale)
+    out = np.zeros(len(xy))
+    rows = np.flatnonzero(hit)
+    if len(rows) == 0:
+        return out.reshape(shape)
+    X, _, g = project(ev, X[rows], ONTO)
+    N = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
+    V = paper.eye - X
+    ok = np.einsum("ij,ij->i", N, V) > layer.turning * np.linalg.norm(V, axis=1)
+    if layer.rules.region is not None:
+        ok &= layer.rules.region.contains(X)
+    if ok.any() and getattr(layer.sight, "others", ()):
+        ok[ok] = visible(layer.sight, X[ok], paper.eye, N[ok])
+    out[rows[ok]] = TN.coverage(layer.tone(X[ok], N[ok]), layer.share)
+    return out.reshape(shape)
+
+
+def measure(layer, hmap, strokes):
+    """The :class:`Gain` that evens a layer's ``strokes`` (a first drawing of its map
+    ``hmap``'s lines) out against its tone, on a grid over the map's places on the
+    paper."""
+    cell = CELL * hmap.spacing
+    if len(hmap.points) == 0 or cell <= 0:
+        return Gain(np.zeros(2), 1.0, np.ones((2, 2)))
+    q = layer.paper.place(hmap.points)[0][:, :2]
+    pad = int(np.ceil(3 * SMOOTH))
+    lo = np.floor(q.min(axis=0) / cell) - pad
+    hi = np.ceil(q.max(axis=0) / cell) + pad
+    origin = lo * cell
+    shape = (int(hi[1] - lo[1]) + 1, int(hi[0] - lo[0]) + 1)
+    want = _blur(asked(layer, origin, cell, shape), SMOOTH)
+    got = _blur(ink(layer.paper, strokes, origin, cell, shape), SMOOTH)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        g = np.where(got > 0, want / got, GAIN)
+    g = np.where(want > FAINT, np.clip(g, 1.0 / GAIN, GAIN), 1.0)
+    return Gain(origin, cell, g)

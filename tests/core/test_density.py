@@ -1,0 +1,65 @@
+"""Hatching as dark on the paper as its tone asks (strokes.density): a first drawing of
+a map's lines measured on a grid of the paper against the tone the eye sees there, and
+the gain that evens it out."""
+import numpy as np
+
+from blobtree_ink.pipeline import layers as LY
+from blobtree_ink.strokes import density as DN
+from blobtree_ink.strokes import hatch_map as HM
+from blobtree_ink.strokes.data import Stroke
+from blobtree_ink.strokes.paper import Paper
+
+import test_tone_marks as TM
+
+
+def test_a_gain_is_bilinear_between_cell_centres_and_one_off_its_grid():
+    g = DN.Gain(np.array([10.0, 20.0]), 0.5, np.array([[1.0, 2.0], [3.0, 4.0]]))     # rows along y
+    at = g.at(np.array([[10.0, 20.0], [10.5, 20.0], [10.0, 20.5], [10.25, 20.25], [10.5, 20.5],
+                        [9.9, 20.0], [10.0, 21.0]]))
+    assert np.allclose(at, [1.0, 2.0, 3.0, 2.5, 4.0, 1.0, 1.0])
+
+
+def test_ink_counts_each_segment_as_long_and_as_wide_as_it_is_on_the_paper():
+    """A line 2 long and 0.02 wide, ten units from the eye as the paper's centre is
+    (scale 1), covers 0.04 of the paper; seen from twice as far, a quarter of that."""
+    x = np.linspace(-1.0, 1.0, 21)
+    line = Stroke(np.c_[x, np.zeros(21), np.zeros(21)], np.full(21, 0.01), np.ones(21))
+    near = Paper((0.0, -10.0, 0.0), (0.0, 0.0, 0.0))
+    grid = DN.ink(near, [line], np.array([-2.0, -2.0]), 0.1, (41, 41))
+    assert np.isclose(grid.sum() * 0.1 ** 2, 0.04)
+    assert np.count_nonzero(grid.sum(axis=1)) == 1              # one row of cells, along the line
+    far = Paper((0.0, -20.0, 0.0), (0.0, -10.0, 0.0))           # the line 20 from the eye, the paper at 10
+    assert np.isclose(DN.ink(far, [line], np.array([-2.0, -2.0]), 0.1, (41, 41)).sum() * 0.1 ** 2, 0.01)
+    assert DN.ink(near, [line], np.array([5.0, 5.0]), 0.1, (4, 4)).sum() == 0.0      # off the grid
+
+
+def without(hmap, towards, radius):
+    """A sphere's hatching map without the lines that come within ``radius`` (of the
+    sphere's radius) of its point ``towards`` a direction."""
+    r = float(np.median(np.linalg.norm(hmap.points, axis=1)))
+    centre, radius = r * np.asarray(towards) / np.linalg.norm(towards), r * radius
+    sizes = hmap.sizes()
+    line = np.repeat(np.arange(len(sizes)), sizes)
+    near = np.zeros(len(sizes), bool)
+    near[line[np.linalg.norm(hmap.points - centre, axis=1) < radius]] = True
+    keep = np.flatnonzero(~near)
+    rows = np.concatenate([np.arange(hmap.start[k], hmap.start[k] + sizes[k]) for k in keep])
+    kept = sizes[keep]
+    return HM.HatchMap(hmap.points[rows], hmap.normals[rows], np.repeat(np.arange(len(keep)), kept),
+                       hmap.level[keep], hmap.key[keep], np.cumsum(kept) - kept, hmap.spacing, hmap.levels)
+
+
+def test_a_patch_of_the_map_left_without_lines_is_inked_by_the_lines_about_it(monkeypatch):
+    """A lit sphere whose hatching map has lost its lines over a patch in its shade (as
+    where a wrinkled surface cuts its lines short): the lines about the patch widen and
+    bring their next level in, so the drawing keeps the tone's evenness; without the
+    gain the patch is a pale hole."""
+    ev, eye, light, lines, cam, lit = TM.scene("lit sphere")
+    shade = -np.asarray(light, float) + 0.6 * (np.asarray(eye, float) / np.linalg.norm(eye))
+    build = HM.build                                            # (towards a point in shade, facing the eye)
+    monkeypatch.setattr(HM, "build", lambda *a, **k: without(build(*a, **k), shade, 0.4))
+    holed = TM.figures("lit sphere", "hatched", TM.small("lit sphere"))
+    monkeypatch.setattr(DN, "GAIN", 1.0)
+    pale = TM.figures("lit sphere", "hatched", TM.small("lit sphere"))
+    assert holed["evenness"] <= 0.19 and pale["evenness"] >= 0.205, (holed, pale)
+    assert holed["tone_r"] > pale["tone_r"] + 0.005, (holed, pale)
