@@ -307,14 +307,18 @@ def map_parts(cross):
 def hatching(cv, sampling, st, region, part, cross=False, lines=None, outlines=(), seed=0):
     """Hatching along the style's flow field (or, with ``cross``, the crossing layer along
     its cross field, the rest of the tone): a part's lines of the model's hatching map,
-    each drawn as wide as its tone wants of its level (strokes.hatching.draw), ended at
-    the visible ``outlines``."""
+    each drawn as wide as its tone wants of its level (strokes.hatching.draw) and as the
+    gain evens it out, ended at the visible ``outlines``. The gain (strokes.density) is
+    measured once an illustration, at its first part, on the whole map drawn beside no
+    outlines: a frame that goes on from the last traces them within their tolerance of
+    a frame alone's, and its gain is the same."""
     layer = _layer(cv, st, region, seed, _share(st, cross), (None, None), st.hatch_steps, lines, outlines, _pen(cross))
     hmap = hatch_map(cv, st, seed, cross)
     key = ("hatch gain", cross, seed)
-    if key not in cv.cache:            # the whole map drawn once, measured on the paper (strokes.density); not
-        bare = dataclasses.replace(layer, outlines=[])       # cut at the outlines, which a frame that goes on
-        cv.cache[key] = DN.measure(bare, hmap, HT.marks(bare, hmap)[0])     # traces within their tolerance
+    if key not in cv.cache:
+        bare = dataclasses.replace(layer, outlines=[])
+        within = None if st.surface == "all" else lambda P: _on_surface_kind(cv.ev, P, st)
+        cv.cache[key] = DN.measure(bare, hmap, HT.marks(bare, hmap)[0], within)
     return HT.draw(layer, hmap, part, cv.cache[key])
 
 

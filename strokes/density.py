@@ -14,13 +14,18 @@ import numpy as np
 
 from . import tone as TN
 from ..model.projection import project
+from .hatching import _turning
 from .visibility import first_hits, visible
 
 CELL = 0.5              # the grid's cells: this share of level 0's spacing across (on the paper)
-SMOOTH = 2.0            # ink and tone are smoothed by a Gaussian of this many cells before their ratio is taken
+SMOOTH = 2.0            # ink and tone are smoothed by a Gaussian of this many cells before their ratio is taken,
+TRUNCATE = 3.0          # cut off at this many of its sigmas (the grid is padded as far beyond the lines)
+MOST_CELLS = 250_000    # a grid of more cells (a model seen from very near) takes wider ones
+NEAREST = 0.05          # a map point nearer the eye than this share of the paper's distance is not measured
 GAIN = 2.0              # a point's coverage is scaled by at most this, or at least its inverse
 RAY_STEP = 4e-3         # the rays that sample the tone step this share of the model's scale
-ONTO = 2                # Newton steps that put a ray's hit onto the surface
+ONTO = 2                # Newton steps that put a ray's hit onto the surface (one that moves it farther than a
+                        # ray's step went astray: not a sample)
 FAINT = 1e-3            # a smoothed tone below this asks nothing: no gain there
 
 
@@ -48,7 +53,7 @@ class Gain:
 
 
 def _blur(img, sigma):
-    r = int(np.ceil(3 * sigma))
+    r = int(np.ceil(TRUNCATE * sigma))
     k = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
     k /= k.sum()
     img = np.apply_along_axis(lambda v: np.convolve(v, k, "same"), 0, img)
@@ -73,10 +78,12 @@ def ink(paper, strokes, origin, cell, shape):
     return out / cell ** 2
 
 
-def asked(layer, origin, cell, shape):
+def asked(layer, origin, cell, shape, within=None):
     """The coverage the layer's tone asks at each cell's centre: of the surface a ray from
-    the eye first meets there, where it faces the eye (by more than the layer's turning)
-    and lies in the layer's region and in sight; 0 elsewhere."""
+    the eye first meets there, where it faces the eye (by more than the layer's turning),
+    lies in the layer's region, on the surface its lines are drawn on (``within``, a
+    function of points: the style's convex or concave parts; default all) and in sight;
+    0 elsewhere."""
     paper, ev = layer.paper, layer.ev
     ys, xs = np.mgrid[0:shape[0], 0:shape[1]]
     xy = origin + cell * np.column_stack([xs.ravel(), ys.ravel()])
@@ -87,33 +94,48 @@ def asked(layer, origin, cell, shape):
     rows = np.flatnonzero(hit)
     if len(rows) == 0:
         return out.reshape(shape)
-    X, _, g = project(ev, X[rows], ONTO)
+    X0 = X[rows]
+    X, _, g = project(ev, X0, ONTO)
     N = -g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-300)
-    V = paper.eye - X
-    ok = np.einsum("ij,ij->i", N, V) > layer.turning * np.linalg.norm(V, axis=1)
+    near = np.linalg.norm(X - X0, axis=1) <= RAY_STEP * ev.scale          # (within the step the hit is past it)
+    ok = near & ~_turning(paper, X, N, layer.turning)
     if layer.rules.region is not None:
         ok &= layer.rules.region.contains(X)
+    if within is not None and ok.any():
+        ok[ok] = within(X[ok])
     if ok.any() and getattr(layer.sight, "others", ()):
         ok[ok] = visible(layer.sight, X[ok], paper.eye, N[ok])
     out[rows[ok]] = TN.coverage(layer.tone(X[ok], N[ok]), layer.share)
     return out.reshape(shape)
 
 
-def measure(layer, hmap, strokes):
+def measure(layer, hmap, strokes, within=None):
     """The :class:`Gain` that evens a layer's ``strokes`` (a first drawing of its map
-    ``hmap``'s lines) out against its tone, on a grid over the map's places on the
-    paper."""
+    ``hmap``'s lines, before their ends are spread) out against its tone (``within``: as
+    :func:`asked`), on a grid over the places of the map's points that face the eye, in
+    front of it; cells half a spacing wide, or wider where that would make more than
+    MOST_CELLS. Where the smoothed tone asks less than FAINT the gain is 1."""
+    paper = layer.paper
+    P = hmap.points
+    depth = (P - paper.eye) @ paper.axes[:, 2]
+    use = (depth > NEAREST * paper.reach) & ~_turning(paper, P, hmap.normals, layer.turning)
+    if layer.rules.region is not None and use.any():
+        use[use] = layer.rules.region.contains(P[use])
     cell = CELL * hmap.spacing
-    if len(hmap.points) == 0 or cell <= 0:
+    if not use.any() or not cell > 0:
         return Gain(np.zeros(2), 1.0, np.ones((2, 2)))
-    q = layer.paper.place(hmap.points)[0][:, :2]
-    pad = int(np.ceil(3 * SMOOTH))
+    q = paper.place(P[use])[0][:, :2]
+    pad = int(np.ceil(TRUNCATE * SMOOTH))
+    span = q.max(axis=0) - q.min(axis=0)
+    cells = np.prod(span / cell + 2 * pad + 1)
+    if cells > MOST_CELLS:
+        cell *= float(np.sqrt(cells / MOST_CELLS))
     lo = np.floor(q.min(axis=0) / cell) - pad
     hi = np.ceil(q.max(axis=0) / cell) + pad
     origin = lo * cell
     shape = (int(hi[1] - lo[1]) + 1, int(hi[0] - lo[0]) + 1)
-    want = _blur(asked(layer, origin, cell, shape), SMOOTH)
-    got = _blur(ink(layer.paper, strokes, origin, cell, shape), SMOOTH)
+    want = _blur(asked(layer, origin, cell, shape, within), SMOOTH)
+    got = _blur(ink(paper, strokes, origin, cell, shape), SMOOTH)
     with np.errstate(divide="ignore", invalid="ignore"):
         g = np.where(got > 0, want / got, GAIN)
     g = np.where(want > FAINT, np.clip(g, 1.0 / GAIN, GAIN), 1.0)

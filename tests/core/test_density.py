@@ -3,7 +3,12 @@ a map's lines measured on a grid of the paper against the tone the eye sees ther
 the gain that evens it out."""
 import numpy as np
 
+from blobtree_ink import model as M
+from blobtree_ink import pipeline as PL
+from blobtree_ink.model.owners import owners
+from blobtree_ink.pipeline import framing as FR
 from blobtree_ink.pipeline import layers as LY
+from blobtree_ink.strokes import style as ST
 from blobtree_ink.strokes import density as DN
 from blobtree_ink.strokes import hatch_map as HM
 from blobtree_ink.strokes.data import Stroke
@@ -54,6 +59,7 @@ def test_a_patch_of_the_map_left_without_lines_is_inked_by_the_lines_about_it(mo
     where a wrinkled surface cuts its lines short): the lines about the patch widen and
     bring their next level in, so the drawing keeps the tone's evenness; without the
     gain the patch is a pale hole."""
+    monkeypatch.setattr(TM, "_seen", {})           # (a scene of its own: the holed map stays with its evaluator)
     ev, eye, light, lines, cam, lit = TM.scene("lit sphere")
     shade = -np.asarray(light, float) + 0.6 * (np.asarray(eye, float) / np.linalg.norm(eye))
     build = HM.build                                            # (towards a point in shade, facing the eye)
@@ -63,3 +69,53 @@ def test_a_patch_of_the_map_left_without_lines_is_inked_by_the_lines_about_it(mo
     pale = TM.figures("lit sphere", "hatched", TM.small("lit sphere"))
     assert holed["evenness"] <= 0.19 and pale["evenness"] >= 0.205, (holed, pale)
     assert holed["tone_r"] > pale["tone_r"] + 0.005, (holed, pale)
+
+
+def capsule_layer(surface="all"):
+    """A real hatching layer (pipeline.layers) of a capsule lying along x, seen from -y,
+    lit from the right of the eye, and its hatching map."""
+    model = M.from_dict({"format": "blobtree-1", "name": "capsule", "root": {
+        "type": "segment", "a": [-1.5, 0, 0], "b": [1.5, 0, 0], "radius": 1.0}})
+    ev = M.Evaluator(model)
+    centre, radius = PL.bounds(ev)
+    eye = np.asarray(centre) + np.array([0.0, -4.0 * radius, 0.0])
+    light = np.array([1.0, -1.0, 0.0]) / np.sqrt(2.0)                # from the right of the eye
+    cv = LY.Canvas(ev, eye, light, FR.line_radius(ev), FR.stroke_unit(ev))
+    st = ST.style("hatched", surface=surface) if surface != "all" else ST.style("hatched")
+    layer = LY._layer(cv, st, None, 0, LY._share(st, False), (None, None), st.hatch_steps, None, ())
+    return layer, LY.hatch_map(cv, st, 0, False, LY.marks_of(cv, "hatching", owners(ev), 0)), ev
+
+
+def test_the_tone_asked_is_of_the_surface_the_eye_sees_in_each_cell():
+    """The capsule's asked coverage covers a patch of the paper as long and as high as
+    its map's lines (x along the grid's columns, y along its rows), darker on its side
+    turned from the light; nothing off the model."""
+    layer, hmap, ev = capsule_layer()
+    q = layer.paper.place(hmap.points)[0][:, :2]
+    cell = 0.05 * (q[:, 0].max() - q[:, 0].min())
+    origin = q.min(axis=0) - 5 * cell
+    shape = (int((q[:, 1].max() - origin[1]) / cell) + 6, int((q[:, 0].max() - origin[0]) / cell) + 6)
+    want = DN.asked(layer, origin, cell, shape)
+    rows, cols = np.nonzero(want > 0)
+    wide, high = (cols.max() - cols.min() + 1) * cell, (rows.max() - rows.min() + 1) * cell
+    assert abs(wide - (q[:, 0].max() - q[:, 0].min())) < 3 * cell
+    assert abs(high - (q[:, 1].max() - q[:, 1].min())) < 3 * cell
+    assert wide > 1.8 * high                                   # (the capsule is 5 long and 2 high)
+    left, right = want[:, : shape[1] // 2].sum(), want[:, shape[1] // 2:].sum()
+    assert left > 1.25 * right                                 # the end turned from the light the darker
+    assert want[0].max() == 0 and want[:, 0].max() == 0
+
+
+def test_lines_that_give_no_ink_get_the_largest_gain_where_the_tone_asks_for_ink():
+    layer, hmap, ev = capsule_layer()
+    g = DN.measure(layer, hmap, [])
+    want = DN._blur(DN.asked(layer, g.origin, g.cell, g.grid.shape), DN.SMOOTH)
+    assert np.array_equal(g.grid == DN.GAIN, want > DN.FAINT)
+    assert (g.grid[want <= DN.FAINT] == 1.0).all() and (want > DN.FAINT).any()
+
+
+def test_a_style_hatching_only_convex_parts_asks_nothing_of_the_others():
+    """The capsule's surface is all convex: hatching its concave parts asks nothing."""
+    layer, hmap, ev = capsule_layer()
+    g = DN.measure(layer, hmap, [], within=lambda P: np.zeros(len(P), bool))
+    assert (g.grid == 1.0).all()
