@@ -25,14 +25,21 @@ def flagged_voxels(board, surface, settings):
     return board.surface_rows[_flags(board, surface, settings)]
 
 
+def _silhouette_flags(bb, surface):
+    """Which surface voxels have corners that face the eye and corners that face away."""
+    rows = bb.surface_rows
+    if len(rows) == 0:
+        return np.zeros(0, bool)
+    P = bb.corner_pos.reshape(-1, 3)
+    facing = np.einsum("ij,ij->i", bb.corner_normal.reshape(-1, 3), surface.view.towards_eye(P)).reshape(len(rows), 8)
+    return (facing > 0).any(axis=1) & (facing < 0).any(axis=1)
+
+
 def _flags(bb, surface, settings):
     rows = bb.surface_rows
     flag = np.zeros(len(rows), bool)
     if "silhouette" in settings.kinds and len(rows):
-        P = bb.corner_pos.reshape(-1, 3)
-        facing = np.einsum("ij,ij->i", bb.corner_normal.reshape(-1, 3), surface.view.towards_eye(P))
-        facing = facing.reshape(len(rows), 8)
-        flag |= (facing > 0).any(axis=1) & (facing < 0).any(axis=1)
+        flag |= _silhouette_flags(bb, surface)
     if "crease" in settings.kinds:
         flag |= bb.vox["theta"][rows] > settings.crease_angle
     return flag
@@ -132,6 +139,7 @@ _AXES = np.concatenate([np.eye(3), -np.eye(3)])
 _MARCH = np.linspace(0.0, 2.0, 17)
 MAX_WALL_PROBES = 20000
 MAX_SUBDIVIDED = 4000           # voxels subdivided at once, at most
+UNFOUND_SPREAD = np.radians(90.0)   # a voxel whose corner normals spread this far may hold a small silhouette
 
 
 def subtracted_walls(surface, h, root):
@@ -220,3 +228,24 @@ def _resample(bb, surface, settings, ijk):
                                            kinds).items():
         added += len(bb.add_features(pos, a, b, kind, bb.h / k))
     return added
+
+
+def unfound_silhouettes(bb, surface, settings, outlines, wanted, going_on=False):
+    """Voxel subdivision where a silhouette may pass that no trace found, once the run has
+    nothing else to do: surface voxels whose corners face the eye and away from it and
+    whose corner normals spread more than UNFOUND_SPREAD (a thin part's tip or bead, as a
+    vein's end, whose small closed silhouette no polygon edge crossed, no trace reached
+    and so none lost), with no point of a traced silhouette inside and their centres
+    ``wanted`` (a function of points: the session's requested regions). A frame
+    ``going_on`` with the same model subdivides nothing (as :func:`subdivide_at`).
+    Returns how many feature points were added."""
+    if going_on or "silhouette" not in settings.kinds or len(bb.surface_rows) == 0:
+        return 0
+    rows = bb.surface_rows
+    maybe = _silhouette_flags(bb, surface) & (bb.vox["theta"][rows] > UNFOUND_SPREAD)
+    pts = [o.points for o in outlines if o.kind == "silhouette" and len(o.points)]
+    if pts:
+        have = bb.voxel_rows(bb.voxel_of(np.concatenate(pts)), create=False)
+        maybe &= ~np.isin(rows, have[have >= 0])
+    ijk = bb.vox["ijk"][rows[maybe]]
+    return _resample(bb, surface, settings, ijk[wanted(bb.lo + (ijk + 0.5) * bb.h)])

@@ -149,6 +149,7 @@ class Session(Results):
         self._detail = np.zeros(0, np.int64) if changed is None and nothing_new else None
         self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
         self._stitched = None       # (state, outlines) of the last stitching
+        self._swept = not s.explore_detail      # looked where a silhouette may pass untraced (or never to)
 
     def _voxel_centres(self, rows):
         return self.bb.lo + (self.bb.vox["ijk"][rows] + 0.5) * self.h
@@ -289,8 +290,9 @@ class Session(Results):
 
     @property
     def done(self):
-        """Idle, and the voxels where traces were lost subdivided (agents.detail.subdivide_at)."""
-        return self._idle and not self.traces.lost
+        """Idle, the voxels where traces were lost subdivided (agents.detail.subdivide_at)
+        and those where a silhouette may pass untraced (agents.detail.unfound_silhouettes)."""
+        return self._idle and not self.traces.lost and self._swept
 
     def _open_seeds(self):
         ids = self.bb.open_features()
@@ -310,6 +312,10 @@ class Session(Results):
         if self._idle and self.traces.lost:      # nothing else to do: subdivide where traces were lost
             detail.subdivide_at(self.bb, self.surface, self.settings, self.traces.take_lost(),
                                 going_on=self.carried.init is not None)
+        elif self._idle:                         # ... then, once, where a silhouette may pass untraced
+            self._swept = True
+            detail.unfound_silhouettes(self.bb, self.surface, self.settings, self.outlines(), self._in_regions,
+                                       going_on=self.carried.init is not None or not self.requests)
         self._assign()
         touched = self.traces.step() + self.explorers.step()
         self.ridges.step()

@@ -151,3 +151,33 @@ def test_the_closest_accepted_pair_of_a_cells_crossings_is_that_of_all_66_pairs(
     assert 250 < len(want_a) < cells - 4
     np.testing.assert_array_equal(a, np.array(want_a))
     np.testing.assert_array_equal(b, np.array(want_b))
+
+
+def test_a_small_silhouette_no_trace_reached_is_found_once_the_run_is_idle(monkeypatch):
+    """A bead on a ball (their union: a crease ring where they meet), smaller than a cell
+    of the rough grid, seen from above the front: no polygon edge crosses its small
+    silhouette and no trace reaches (or loses) it. Once nothing else is left the voxels
+    whose corners face both ways and whose normals spread past a right angle, with no
+    traced silhouette inside, are resampled on fine cells: the bead's silhouette is
+    traced, one line round the bead from the crease ring to the crease ring (where it
+    goes behind the ball); without that look, nothing is drawn there."""
+    from blobtree_ink.agents import detail
+    centre = np.array([0.0, 0.0, 1.08 * K])
+    bead = model_of({"type": "union", "children": [{"type": "point", "center": [0, 0, 0], "radius": 1.0},
+                                                  {"type": "point", "center": centre.tolist(), "radius": 0.1}]})
+    view = View(eye=(0.0, -5.0, 1.5))
+
+    def on_the_bead():
+        s = Session(bead, view, Settings(resolution=8))
+        s.request("OUTLINES")
+        s.run()
+        assert s.done
+        near = [o for o in s.outlines() if (np.linalg.norm(o.points - centre, axis=1) < 0.3 * K).all()]
+        return [o for o in near if o.kind == "silhouette"], [o for o in near if o.kind == "crease"]
+    found, ring = on_the_bead()
+    assert len(found) == 1 and len(found[0].points) >= 8 and len(ring) == 1
+    line = found[0]
+    for end in (line.points[0], line.points[-1]):
+        assert np.linalg.norm(ring[0].points - end, axis=1).min() < 2 * line.step
+    monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: 0)
+    assert on_the_bead()[0] == []
