@@ -127,9 +127,11 @@ def measure(layer, hmap, strokes, within=None):
     q = paper.place(P[use])[0][:, :2]
     pad = int(np.ceil(TRUNCATE * SMOOTH))
     span = q.max(axis=0) - q.min(axis=0)
-    cells = np.prod(span / cell + 2 * pad + 1)
-    if cells > MOST_CELLS:
-        cell *= float(np.sqrt(cells / MOST_CELLS))
+    for _ in range(32):                     # (the pad's cells stay: a few rounds of widening)
+        cells = float(np.prod(np.ceil(span / cell) + 2 * pad + 2))
+        if cells <= MOST_CELLS:
+            break
+        cell *= 1.01 * float(np.sqrt(cells / MOST_CELLS))
     lo = np.floor(q.min(axis=0) / cell) - pad
     hi = np.ceil(q.max(axis=0) / cell) + pad
     origin = lo * cell

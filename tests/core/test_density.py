@@ -71,14 +71,14 @@ def test_a_patch_of_the_map_left_without_lines_is_inked_by_the_lines_about_it(mo
     assert holed["tone_r"] > pale["tone_r"] + 0.005, (holed, pale)
 
 
-def capsule_layer(surface="all"):
+def capsule_layer(surface="all", eye=None):
     """A real hatching layer (pipeline.layers) of a capsule lying along x, seen from -y,
     lit from the right of the eye, and its hatching map."""
     model = M.from_dict({"format": "blobtree-1", "name": "capsule", "root": {
         "type": "segment", "a": [-1.5, 0, 0], "b": [1.5, 0, 0], "radius": 1.0}})
     ev = M.Evaluator(model)
     centre, radius = PL.bounds(ev)
-    eye = np.asarray(centre) + np.array([0.0, -4.0 * radius, 0.0])
+    eye = np.asarray(centre) + np.array([0.0, -4.0 * radius, 0.0]) if eye is None else np.asarray(eye, float)
     light = np.array([1.0, -1.0, 0.0]) / np.sqrt(2.0)                # from the right of the eye
     cv = LY.Canvas(ev, eye, light, FR.line_radius(ev), FR.stroke_unit(ev))
     st = ST.style("hatched", surface=surface) if surface != "all" else ST.style("hatched")
@@ -119,3 +119,15 @@ def test_a_style_hatching_only_convex_parts_asks_nothing_of_the_others():
     layer, hmap, ev = capsule_layer()
     g = DN.measure(layer, hmap, [], within=lambda P: np.zeros(len(P), bool))
     assert (g.grid == 1.0).all()
+
+
+def test_a_model_seen_from_very_near_gets_a_bounded_grid(monkeypatch):
+    """The eye just off the capsule's end, most of the model beside and behind it: the
+    grid spans the map's points in front of the eye that face it; where that would take
+    more than MOST_CELLS cells it takes fewer, wider ones; the gain is finite."""
+    layer, hmap, ev = capsule_layer(eye=(-2.05, -0.05, 0.02))         # (its end at x = -1.95)
+    g = DN.measure(layer, hmap, [])
+    assert g.cell == DN.CELL * hmap.spacing and g.grid.size > 20_000 and np.isfinite(g.grid).all()
+    monkeypatch.setattr(DN, "MOST_CELLS", 5000)
+    g = DN.measure(layer, hmap, [])
+    assert g.cell > DN.CELL * hmap.spacing and g.grid.size <= 5000 and np.isfinite(g.grid).all()
