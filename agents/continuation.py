@@ -115,6 +115,8 @@ class Continuation:
     age: int = 0                   # frames since a session looked for small features everywhere
     complete: bool = True          # the session ran to its end (not to a time or iteration budget)
     walks: Walks = None            # its explorers' walks and the last frames' with the same model (with init)
+    swept: frozenset = frozenset()  # the voxel rows it and the last frames looked in for untraced silhouettes
+                                    # (agents.detail.unfound_silhouettes; with init)
 
 
 @dataclass
@@ -134,6 +136,8 @@ class Carried:
     walks: Walks = None            # the explorers' walks of the last frames with this model (with init)
     complete: bool = False         # the last frame's session ran to its end: its creases and curvature-sign
                                    # lines where the field is the same are all there are
+    swept: frozenset = frozenset()  # the voxel rows the last frames with this model looked in for untraced
+                                    # silhouettes (with init): their lines are followed, not looked for again
 
 
 def carried(previous, model, view, settings):
@@ -147,7 +151,8 @@ def carried(previous, model, view, settings):
         previous.init.resolution == settings.resolution else None
     age = previous.age + 1
     out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age, complete=previous.complete,
-                  same_eye=same_eye, walks=previous.walks if init is not None else None)
+                  same_eye=same_eye, walks=previous.walks if init is not None else None,
+                  swept=previous.swept if init is not None else frozenset())
     if region is EVERYWHERE:
         return out                      # as from scratch
     for o in previous.outlines:

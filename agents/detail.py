@@ -230,22 +230,28 @@ def _resample(bb, surface, settings, ijk):
     return added
 
 
-def unfound_silhouettes(bb, surface, settings, outlines, wanted, going_on=False):
+def unfound_silhouettes(bb, surface, settings, outlines, wanted, swept=frozenset()):
     """Voxel subdivision where a silhouette may pass that no trace found, once the run has
     nothing else to do: surface voxels whose corners face the eye and away from it and
     whose corner normals spread more than UNFOUND_SPREAD (a thin part's tip or bead, as a
     vein's end, whose small closed silhouette no polygon edge crossed, no trace reached
-    and so none lost), with no point of a traced silhouette inside and their centres
-    ``wanted`` (a function of points: the session's requested regions). A frame
-    ``going_on`` with the same model subdivides nothing (as :func:`subdivide_at`).
-    Returns how many feature points were added."""
-    if going_on or "silhouette" not in settings.kinds or len(bb.surface_rows) == 0:
-        return 0
+    and so none lost), with no point of a traced silhouette or crease inside (a crease's
+    faces spread as far: a crease traced there is why) and their centres
+    ``wanted`` (a function of points: the session's requested regions), but those
+    ``swept`` already (rows: the last frames', whose lines a frame going on follows).
+    Unlike the lost traces' voxels these depend on the eye: a frame going on from the
+    last, whose eye moved, looks where it brings new ones. Returns the rows looked in."""
+    if "silhouette" not in settings.kinds or len(bb.surface_rows) == 0:
+        return np.zeros(0, np.int64)
     rows = bb.surface_rows
     maybe = _silhouette_flags(bb, surface) & (bb.vox["theta"][rows] > UNFOUND_SPREAD)
-    pts = [o.points for o in outlines if o.kind == "silhouette" and len(o.points)]
+    pts = [o.points for o in outlines if o.kind in ("silhouette", "crease") and len(o.points)]
     if pts:
         have = bb.voxel_rows(bb.voxel_of(np.concatenate(pts)), create=False)
         maybe &= ~np.isin(rows, have[have >= 0])
-    ijk = bb.vox["ijk"][rows[maybe]]
-    return _resample(bb, surface, settings, ijk[wanted(bb.lo + (ijk + 0.5) * bb.h)])
+    if swept:
+        maybe &= ~np.isin(rows, np.fromiter(swept, np.int64, len(swept)))
+    look = rows[maybe]
+    look = look[wanted(bb.lo + (bb.vox["ijk"][look] + 0.5) * bb.h)]
+    _resample(bb, surface, settings, bb.vox["ijk"][look])
+    return look

@@ -149,7 +149,9 @@ class Session(Results):
         self._detail = np.zeros(0, np.int64) if changed is None and nothing_new else None
         self._missed = None         # probe points on the sheets the polygonisation missed, once looked for
         self._stitched = None       # (state, outlines) of the last stitching
-        self._swept = not s.explore_detail      # looked where a silhouette may pass untraced (or never to)
+        # looked where a silhouette may pass untraced (not to: seen as the last frame saw the same model)
+        self._swept = not s.explore_detail or self._static
+        self._swept_rows = np.zeros(0, np.int64)
 
     def _voxel_centres(self, rows):
         return self.bb.lo + (self.bb.vox["ijk"][rows] + 0.5) * self.h
@@ -166,12 +168,13 @@ class Session(Results):
 
     def continuation(self):
         """What this session leaves the next frame's (agents.continuation)."""
-        walks = None
+        walks, swept = None, frozenset()
         if self._init is not None:            # the explored rows of the model's own board (the same in every frame)
             rows = [r for r in self.explorers.explored if r < self._init.board.vox.n]
             walks = (self._walks or NO_WALKS).joined(self.explorers.walks(), rows)
+            swept = self.carried.swept | {int(r) for r in self._swept_rows if r < self._init.board.vox.n}
         return Continuation(self.ev.model, self.view.key(), self.settings, tuple(self.outlines()), self._init,
-                            self.carried.age, self.done, walks)
+                            self.carried.age, self.done, walks, swept)
 
     def _curvature(self, P, g):
         return curvature(self.ev, P, g)
@@ -314,8 +317,8 @@ class Session(Results):
                                 going_on=self.carried.init is not None)
         elif self._idle:                         # ... then, once, where a silhouette may pass untraced
             self._swept = True
-            detail.unfound_silhouettes(self.bb, self.surface, self.settings, self.outlines(), self._in_regions,
-                                       going_on=self.carried.init is not None or not self.requests)
+            self._swept_rows = detail.unfound_silhouettes(self.bb, self.surface, self.settings, self.outlines(),
+                                                          self._in_regions, self.carried.swept)
         self._assign()
         touched = self.traces.step() + self.explorers.step()
         self.ridges.step()

@@ -41,7 +41,10 @@ def test_a_crease_the_rough_grid_missed_is_traced_from_where_its_neighbour_was_l
     """The jug from the three-quarter view: the crease where the handle's cut end meets
     the mouth's hollow is traced round its sides only, each trace lost at a junction
     below the top; the voxels there, subdivided, give the top's seeds, and the crease is
-    traced over the top at the fine scale, on the surface."""
+    traced over the top at the fine scale, on the surface. (The look where a silhouette
+    may pass untraced, agents.detail.unfound_silhouettes, subdivides voxels of its own:
+    left out here.)"""
+    monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: np.zeros(0, np.int64))
     s = jug_session(load_example)
     top = top_of_the_cut(s)
     y = np.sort(top[:, 1])
@@ -56,10 +59,12 @@ def test_a_crease_the_rough_grid_missed_is_traced_from_where_its_neighbour_was_l
     assert len(top_of_the_cut(jug_session(load_example))) == 0
 
 
-def test_a_frame_going_on_with_the_same_model_follows_what_the_last_found(load_example):
+def test_a_frame_going_on_with_the_same_model_follows_what_the_last_found(load_example, monkeypatch):
     """The next frame of a turning eye, going on from the jug's: no voxel is subdivided
     again, and the crease over the handle's cut end, which the first frame found so, is
-    there (followed)."""
+    there (followed). (The look where a silhouette may pass untraced left out, as
+    above.)"""
+    monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: np.zeros(0, np.int64))
     model = load_example("jug")
     lo, hi = surface_box(M.Evaluator(model))
     eyes = []

@@ -160,24 +160,31 @@ def test_a_small_silhouette_no_trace_reached_is_found_once_the_run_is_idle(monke
     whose corners face both ways and whose normals spread past a right angle, with no
     traced silhouette inside, are resampled on fine cells: the bead's silhouette is
     traced, one line round the bead from the crease ring to the crease ring (where it
-    goes behind the ball); without that look, nothing is drawn there."""
+    goes behind the ball); a frame going on follows it and looks only in voxels the
+    last did not; without that look, nothing is drawn there."""
     from blobtree_ink.agents import detail
     centre = np.array([0.0, 0.0, 1.08 * K])
     bead = model_of({"type": "union", "children": [{"type": "point", "center": [0, 0, 0], "radius": 1.0},
                                                   {"type": "point", "center": centre.tolist(), "radius": 0.1}]})
     view = View(eye=(0.0, -5.0, 1.5))
 
-    def on_the_bead():
-        s = Session(bead, view, Settings(resolution=8))
+    def on_the_bead(eye=view, previous=None):
+        s = Session(bead, eye, Settings(resolution=8), previous=previous, remember=True)
         s.request("OUTLINES")
         s.run()
         assert s.done
         near = [o for o in s.outlines() if (np.linalg.norm(o.points - centre, axis=1) < 0.3 * K).all()]
-        return [o for o in near if o.kind == "silhouette"], [o for o in near if o.kind == "crease"]
-    found, ring = on_the_bead()
+        return [o for o in near if o.kind == "silhouette"], [o for o in near if o.kind == "crease"], s
+    found, ring, first = on_the_bead()
     assert len(found) == 1 and len(found[0].points) >= 8 and len(ring) == 1
     line = found[0]
     for end in (line.points[0], line.points[-1]):
         assert np.linalg.norm(ring[0].points - end, axis=1).min() < 2 * line.step
-    monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: 0)
+    # the next frame of a turning eye follows it, looking only where the last did not
+    last = first.continuation()
+    assert last.swept
+    found, _, going = on_the_bead(View(eye=(0.3, -5.0, 1.5)), last)
+    assert len(found) == 1 and not set(going._swept_rows.tolist()) & last.swept
+    assert going.continuation().swept >= last.swept
+    monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: np.zeros(0, np.int64))
     assert on_the_bead()[0] == []

@@ -35,11 +35,15 @@ def found(loops, s, tol):
     return sum(np.linalg.norm(P - o.points.mean(axis=0), axis=1).min() < tol for o in loops)
 
 
-def test_a_small_silhouette_the_eye_brings_into_view_is_found_in_that_frame(load_example):
+def test_a_small_silhouette_the_eye_brings_into_view_is_found_in_that_frame(load_example, monkeypatch):
     """The heart's veins show small closed silhouettes that come and go as the eye turns.
     Turned by 12 degrees from the last frame, the frame going on finds every one that
     three frames from scratch (three seeds) find: the last frame's walks cross them.
-    Without the walks' points (the same voxels counted as explored) it misses most."""
+    Without the walks' points (the same voxels counted as explored) it misses most. (The
+    last look of a run, where a silhouette may pass untraced, finds such loops too: left
+    out here, agents.detail.unfound_silhouettes.)"""
+    from blobtree_ink.agents import detail
+    monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: np.zeros(0, np.int64))
     ev, view = heart_views(load_example)
     first = run(ev, view(0))
     last = first.continuation()
