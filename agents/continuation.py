@@ -137,7 +137,8 @@ class Carried:
     complete: bool = False         # the last frame's session ran to its end: its creases and curvature-sign
                                    # lines where the field is the same are all there are
     swept: frozenset = frozenset()  # the voxel rows the last frames with this model looked in for untraced
-                                    # silhouettes (with init): their lines are followed, not looked for again
+                                    # silhouettes (with init; none every REFRESH-th frame): their lines are
+                                    # followed, not looked for again
 
 
 def carried(previous, model, view, settings):
@@ -152,7 +153,7 @@ def carried(previous, model, view, settings):
     age = previous.age + 1
     out = Carried(init=init, changed=region, age=0 if age >= REFRESH else age, complete=previous.complete,
                   same_eye=same_eye, walks=previous.walks if init is not None else None,
-                  swept=previous.swept if init is not None else frozenset())
+                  swept=previous.swept if init is not None and age < REFRESH else frozenset())
     if region is EVERYWHERE:
         return out                      # as from scratch
     for o in previous.outlines:

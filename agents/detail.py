@@ -253,5 +253,7 @@ def unfound_silhouettes(bb, surface, settings, outlines, wanted, swept=frozenset
         maybe &= ~np.isin(rows, np.fromiter(swept, np.int64, len(swept)))
     look = rows[maybe]
     look = look[wanted(bb.lo + (bb.vox["ijk"][look] + 0.5) * bb.h)]
+    if len(look) > MAX_SUBDIVIDED:      # (as _resample would: the rows returned are those looked in)
+        look = look[np.linspace(0, len(look) - 1, MAX_SUBDIVIDED).astype(int)]
     _resample(bb, surface, settings, bb.vox["ijk"][look])
     return look

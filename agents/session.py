@@ -172,7 +172,8 @@ class Session(Results):
         if self._init is not None:            # the explored rows of the model's own board (the same in every frame)
             rows = [r for r in self.explorers.explored if r < self._init.board.vox.n]
             walks = (self._walks or NO_WALKS).joined(self.explorers.walks(), rows)
-            swept = self.carried.swept | {int(r) for r in self._swept_rows if r < self._init.board.vox.n}
+            mine = self._swept_rows if self.done else ()          # (looked in, and what was found there traced)
+            swept = self.carried.swept | {int(r) for r in mine if r < self._init.board.vox.n}
         return Continuation(self.ev.model, self.view.key(), self.settings, tuple(self.outlines()), self._init,
                             self.carried.age, self.done, walks, swept)
 
@@ -295,7 +296,7 @@ class Session(Results):
     def done(self):
         """Idle, the voxels where traces were lost subdivided (agents.detail.subdivide_at)
         and those where a silhouette may pass untraced (agents.detail.unfound_silhouettes)."""
-        return self._idle and not self.traces.lost and self._swept
+        return self._idle and not self.traces.lost and (self._swept or not self.requests)
 
     def _open_seeds(self):
         ids = self.bb.open_features()
@@ -315,8 +316,8 @@ class Session(Results):
         if self._idle and self.traces.lost:      # nothing else to do: subdivide where traces were lost
             detail.subdivide_at(self.bb, self.surface, self.settings, self.traces.take_lost(),
                                 going_on=self.carried.init is not None)
-        elif self._idle:                         # ... then, once, where a silhouette may pass untraced
-            self._swept = True
+        elif self._idle and not self._swept and self.requests:    # ... then, once, where a silhouette may pass
+            self._swept = True                                      # untraced
             self._swept_rows = detail.unfound_silhouettes(self.bb, self.surface, self.settings, self.outlines(),
                                                           self._in_regions, self.carried.swept)
         self._assign()

@@ -21,6 +21,8 @@ CELL = 0.5              # the grid's cells: this share of level 0's spacing acro
 SMOOTH = 2.0            # ink and tone are smoothed by a Gaussian of this many cells before their ratio is taken,
 TRUNCATE = 3.0          # cut off at this many of its sigmas (the grid is padded as far beyond the lines)
 MOST_CELLS = 250_000    # a grid of more cells (a model seen from very near) takes wider ones
+WIDEN = 1.01            # ... each round of widening the cells a little past the share that should do
+WIDEN_ROUNDS = 32       # ... in at most this many rounds (the pad's cells stay: a few do)
 NEAREST = 0.05          # a map point nearer the eye than this share of the paper's distance is not measured
 GAIN = 2.0              # a point's coverage is scaled by at most this, or at least its inverse
 RAY_STEP = 4e-3         # the rays that sample the tone step this share of the model's scale
@@ -127,11 +129,11 @@ def measure(layer, hmap, strokes, within=None):
     q = paper.place(P[use])[0][:, :2]
     pad = int(np.ceil(TRUNCATE * SMOOTH))
     span = q.max(axis=0) - q.min(axis=0)
-    for _ in range(32):                     # (the pad's cells stay: a few rounds of widening)
+    for _ in range(WIDEN_ROUNDS):
         cells = float(np.prod(np.ceil(span / cell) + 2 * pad + 2))
         if cells <= MOST_CELLS:
             break
-        cell *= 1.01 * float(np.sqrt(cells / MOST_CELLS))
+        cell *= WIDEN * float(np.sqrt(cells / MOST_CELLS))
     lo = np.floor(q.min(axis=0) / cell) - pad
     hi = np.ceil(q.max(axis=0) / cell) + pad
     origin = lo * cell

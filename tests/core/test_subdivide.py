@@ -180,11 +180,19 @@ def test_a_small_silhouette_no_trace_reached_is_found_once_the_run_is_idle(monke
     line = found[0]
     for end in (line.points[0], line.points[-1]):
         assert np.linalg.norm(ring[0].points - end, axis=1).min() < 2 * line.step
-    # the next frame of a turning eye follows it, looking only where the last did not
+    # the next frame of a turning eye follows it (it looks only where the last did not)
     last = first.continuation()
-    assert last.swept
+    assert set(first._swept_rows.tolist()) == last.swept != set()
     found, _, going = on_the_bead(View(eye=(0.3, -5.0, 1.5)), last)
-    assert len(found) == 1 and not set(going._swept_rows.tolist()) & last.swept
-    assert going.continuation().swept >= last.swept
+    assert len(found) == 1 and going.continuation().swept >= last.swept
+    look = detail.unfound_silhouettes
     monkeypatch.setattr(detail, "unfound_silhouettes", lambda *a, **k: np.zeros(0, np.int64))
-    assert on_the_bead()[0] == []
+    found, _, bare = on_the_bead()
+    assert found == []
+    # where it looks: the bead's voxels, but those looked in already
+    everywhere = lambda P: np.ones(len(P), bool)                        # noqa: E731
+    rows = look(bare.bb, bare.surface, bare.settings, bare.outlines(), everywhere)
+    assert 0 < len(rows) <= 8
+    assert (np.linalg.norm(bare.bb.lo + (bare.bb.vox["ijk"][rows] + 0.5) * bare.bb.h - centre, axis=1)
+            < 2 * bare.bb.h).all()
+    assert len(look(bare.bb, bare.surface, bare.settings, bare.outlines(), everywhere, frozenset(rows.tolist()))) == 0
