@@ -211,6 +211,11 @@ def subdivide_at(bb, surface, settings, P, going_on=False):
     return _resample(bb, surface, settings, bb.voxel_of(P))
 
 
+def _at_most(a):
+    """At most MAX_SUBDIVIDED of ``a``, spread over it: the fine sampling's cost stays bounded."""
+    return a if len(a) <= MAX_SUBDIVIDED else a[np.linspace(0, len(a) - 1, MAX_SUBDIVIDED).astype(int)]
+
+
 def _resample(bb, surface, settings, ijk):
     """Voxels ``ijk`` not subdivided yet resampled on fine cells (blackboard.subdivide;
     each voxel once): their feature points join the blackboard with the fine cells'
@@ -219,9 +224,7 @@ def _resample(bb, surface, settings, ijk):
     kinds = [kind for kind in ("silhouette", "crease") if kind in settings.kinds]
     if not k or not kinds or len(ijk) == 0:
         return 0
-    ijk = unique_rows(np.asarray(ijk, np.int64).reshape(-1, 3))
-    if len(ijk) > MAX_SUBDIVIDED:       # a spread subset: the fine sampling's cost stays bounded
-        ijk = ijk[np.linspace(0, len(ijk) - 1, MAX_SUBDIVIDED).astype(int)]
+    ijk = _at_most(unique_rows(np.asarray(ijk, np.int64).reshape(-1, 3)))
     ijk = bb.unsubdivided(ijk)
     added = 0
     for kind, (pos, a, b) in fine_features(surface.ev, bb.lo, bb.h, ijk, k, surface.view, settings.crease_angle,
@@ -253,7 +256,6 @@ def unfound_silhouettes(bb, surface, settings, outlines, wanted, swept=frozenset
         maybe &= ~np.isin(rows, np.fromiter(swept, np.int64, len(swept)))
     look = rows[maybe]
     look = look[wanted(bb.lo + (bb.vox["ijk"][look] + 0.5) * bb.h)]
-    if len(look) > MAX_SUBDIVIDED:      # (as _resample would: the rows returned are those looked in)
-        look = look[np.linspace(0, len(look) - 1, MAX_SUBDIVIDED).astype(int)]
+    look = _at_most(look)               # (as _resample takes them: the rows returned are those looked in)
     _resample(bb, surface, settings, bb.vox["ijk"][look])
     return look

@@ -156,9 +156,8 @@ def marks(layer, hmap, lines=None, gain=None):
     T = tangents(P, first, sizes)
     facing = ~_turning(layer.paper, P, N)
     w, scale = widths(layer, hmap, P, N, T, hmap.level[line], hmap.key[line], hmap.spread[rows], facing, gain)
-    drawn = w > 0
-    if layer.rules.region is not None:
-        drawn &= layer.rules.region.contains(P)
+    inside = np.ones(len(P), bool) if layer.rules.region is None else layer.rules.region.contains(P)
+    drawn = (w > 0) & inside
     crossing = _outline_segments(layer)
     q = layer.paper.place(P)[0]
     cut = np.zeros(len(P), bool)                        # a step into the point crosses a visible outline
@@ -167,7 +166,8 @@ def marks(layer, hmap, lines=None, gain=None):
     runs = _runs(drawn, cut, first, sizes)
     if not runs:
         return [], np.zeros(0, np.int64)
-    RP, RN, r, psizes = _to_the_edges(layer, P, N, 0.5 * w / scale, drawn, facing, cut, first, sizes, runs)
+    RP, RN, r, psizes = _to_the_edges(layer, P, N, 0.5 * w / scale, drawn, facing & inside, cut, first, sizes,
+                                      runs)
     out, owner = [], []
     at = np.cumsum(psizes) - psizes
     for k, vis in enumerate(visible_marks(layer.sight, RP, psizes, layer.paper.eye, RN)):
@@ -280,21 +280,19 @@ def widths(layer, hmap, P, N, T, level, key, spread=None, facing=None, gain=None
     return np.where(facing & (c > 0), w, 0.0), scale
 
 
-def _to_the_edges(layer, P, N, radius, drawn, facing, cut, first, sizes, runs):
+def _to_the_edges(layer, P, N, radius, drawn, open_to, cut, first, sizes, runs):
     """The runs' points one after the other, with their normals and radii, each run
     carried on EDGE of a step beyond an end where the next point of its line is not drawn
     but faces the eye, lies in the region and is reached without crossing a visible
     outline: its tone ends in that step (on average halfway), and a run that stopped at
     its last point inside would leave half a step's ink out at each end (a step in all:
     half the ink of a patch of shade two steps across). The new end is put onto the
-    surface and drawn as wide as the end it carries on. ``facing``: which points face
-    the eye (as :func:`widths` found). Returns the points, normals, radii and the runs'
-    sizes."""
+    surface and drawn as wide as the end it carries on. ``open_to``: which points face
+    the eye (as :func:`widths` found) and lie in the region. Returns the points, normals,
+    radii and the runs' sizes."""
     A, B = np.array([a for a, _ in runs]), np.array([b for _, b in runs])
     start, stop = np.repeat(first, sizes), np.repeat(first + sizes, sizes)
-    open_ = facing & ~drawn
-    if layer.rules.region is not None:
-        open_ &= layer.rules.region.contains(P)
+    open_ = open_to & ~drawn
     head = (A - 1 >= start[A]) & open_[np.maximum(A - 1, 0)] & ~cut[A]
     tail = (B < stop[B - 1]) & open_[np.minimum(B, len(P) - 1)] & ~cut[np.minimum(B, len(P) - 1)]
     ends = np.concatenate([A[head], B[tail] - 1])
